@@ -1,0 +1,77 @@
+"""Shared test helpers: run the CLI in-process, and locate the robot corpora."""
+
+from __future__ import annotations
+
+import io
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+ROBOTS = ROOT / "robots"
+
+
+@dataclass
+class Result:
+    code: int
+    out: str
+    err: str
+
+
+def run_urdftool(*args: str) -> Result:
+    """Run `urdftool ARGS` in-process; returns exit code, stdout and stderr."""
+    from urdftool.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    saved = sys.stdout, sys.stderr
+    sys.stdout, sys.stderr = out, err
+    try:
+        main([str(a) for a in args])
+        code = 0
+    except SystemExit as exc:
+        code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    finally:
+        sys.stdout, sys.stderr = saved
+    return Result(code, out.getvalue(), err.getvalue())
+
+
+def pybullet_data_dir() -> Path:
+    import pybullet_data
+
+    return Path(pybullet_data.getDataPath())
+
+
+def example_robot_data_dir() -> Path:
+    """The installed example-robot-data share folder (its robots/ holds the URDFs)."""
+    import pinocchio  # noqa: F401  - makes cmeel.prefix importable
+
+    for entry in sys.path:
+        candidate = Path(entry) / "cmeel.prefix" / "share" / "example-robot-data"
+        if candidate.is_dir():
+            return candidate
+    raise RuntimeError("example-robot-data is not installed")
+
+
+def pybullet_urdfs() -> list[Path]:
+    """pybullet_data's robot URDFs (the thousand random_urdfs objects left out)."""
+    base = pybullet_data_dir()
+    return sorted(p for p in base.rglob("*.urdf") if "random_urdfs" not in p.parts)
+
+
+def example_robot_urdfs() -> list[Path]:
+    return sorted((example_robot_data_dir() / "robots").rglob("*.urdf"))
+
+
+@pytest.fixture
+def write(tmp_path):
+    """write(text, name='robot.urdf') -> Path of a new file with that text."""
+
+    def make(text: str, name: str = "robot.urdf") -> Path:
+        path = tmp_path / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8")
+        return path
+
+    return make

@@ -1,0 +1,3 @@
+from urdftool.cli import main
+
+main()

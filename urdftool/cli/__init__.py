@@ -1,0 +1,152 @@
+"""The command line: a click group whose commands live one per module in this package and
+are imported only when invoked (so ``urdftool check`` never pays for pybullet or pinocchio).
+
+Commands are thin: parse options, call the library, print. Exit codes: 0 clean, 1 findings or a
+failed check, 2 the tool could not do its job (one line on stderr, no traceback).
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import sys
+
+import click
+
+from urdftool import __version__
+from urdftool.errors import ToolError
+
+COMMANDS = {
+    "check": "lint robot files; all findings in one pass",
+    "expand": "expand xacro to URDF, errors located in the xacro source",
+    "inertia": "declared vs geometry-derived inertia per link",
+    "limits": "joint-limit and mimic table",
+    "tree": "kinematic tree",
+    "convert": "convert SDF to URDF",
+    "dh": "Denavit-Hartenberg table of a serial chain",
+    "jacobian": "Jacobian table at a configuration (or symbolic)",
+    "sim": "short PyBullet physics smoke test per model",
+    "rules": "the rule catalogue",
+}
+
+
+class LazyGroup(click.Group):
+    """Imports ``urdftool.cli.<name>`` (which defines ``command``) on first use."""
+
+    def list_commands(self, ctx):
+        return list(COMMANDS)
+
+    def get_command(self, ctx, name):
+        if name not in COMMANDS:
+            return None
+        module = importlib.import_module(f"urdftool.cli.{name}")
+        return module.command
+
+    def format_commands(self, ctx, formatter):
+        rows = [(name, help_text) for name, help_text in COMMANDS.items()]
+        with formatter.section("Commands"):
+            formatter.write_dl(rows)
+
+
+@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="urdftool")
+@click.option("--debug", is_flag=True, envvar="URDFTOOL_DEBUG",
+              help="Show Python tracebacks (for reporting bugs in urdftool).")
+@click.pass_context
+def cli(ctx, debug):
+    """urdftool: validate and work with robot descriptions (URDF, xacro, SDF)."""
+    ctx.ensure_object(dict)
+    ctx.obj["debug"] = debug
+
+
+# -- options shared by the commands ---------------------------------------------------------
+
+
+def format_option(*choices: str, default: str = "text"):
+    return click.option("--format", "fmt", type=click.Choice(choices), default=default,
+                        show_default=True, help="Output format.")
+
+
+def package_option(function):
+    return click.option("-P", "--package", "packages", multiple=True, metavar="NAME=DIR",
+                        help="Where package NAME lives (for package:// and $(find NAME)). "
+                             "Repeatable.")(function)
+
+
+def split_args(values: tuple[str, ...]) -> tuple[list[str], dict[str, str]]:
+    """Separate positional values into paths and xacro NAME:=VALUE arguments."""
+    paths, xacro_args = [], {}
+    for value in values:
+        if ":=" in value:
+            name, _, arg = value.partition(":=")
+            xacro_args[name] = arg
+        else:
+            paths.append(value)
+    return paths, xacro_args
+
+
+def parse_packages(values: tuple[str, ...]) -> dict[str, str]:
+    packages = {}
+    for value in values:
+        name, sep, directory = value.partition("=")
+        if not sep or not name or not directory:
+            raise ToolError(f"-P expects NAME=DIR, got {value!r}")
+        packages[name] = directory
+    return packages
+
+
+def load_options(packages: tuple[str, ...], xacro_args: dict[str, str]):
+    from urdftool.source import LoadOptions
+
+    return LoadOptions(parse_packages(packages), xacro_args)
+
+
+def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | None = None):
+    """Load one file into a Robot for the commands that work on a model (not ``check``).
+    A file too broken to give a robot is a ToolError naming the first problem."""
+    from urdftool.model import build_robot
+    from urdftool.source import load
+
+    source = load(path, load_options(packages, xacro_args or {}))
+    robot = build_robot(source)
+    if source.root is None or source.root.tag != "robot" or not robot.links:
+        first = source.problems[0][1] if source.problems else None
+        where = f"{first.loc.path}:{first.loc.line}: " if first and first.loc and first.loc.line else ""
+        reason = f"{where}{first.message}" if first else "no <robot> with links in it"
+        raise ToolError(f"{path}: cannot read a robot ({reason}); run 'urdftool check {path}'")
+    return robot
+
+
+def stdout_console():
+    from rich.console import Console
+
+    return Console(highlight=False, soft_wrap=True)
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Entry point: runs the group and turns ToolError into exit code 2."""
+    debug = bool(os.environ.get("URDFTOOL_DEBUG")) or "--debug" in (argv or sys.argv[1:])
+    try:
+        cli.main(args=argv, prog_name="urdftool", standalone_mode=False)
+    except click.exceptions.Exit as exc:
+        sys.exit(exc.exit_code)
+    except click.ClickException as exc:
+        exc.show()
+        sys.exit(2)
+    except click.exceptions.Abort:
+        click.echo("urdftool: aborted", err=True)
+        sys.exit(2)
+    except ToolError as exc:
+        if debug:
+            raise
+        click.echo(f"urdftool: {exc}", err=True)
+        sys.exit(2)
+    except BrokenPipeError:
+        sys.exit(1)
+    except Exception as exc:  # noqa: BLE001 - never a traceback without --debug
+        if debug:
+            raise
+        click.echo(f"urdftool: internal error: {type(exc).__name__}: {exc} "
+                   "(run with --debug for details)", err=True)
+        sys.exit(2)
+    sys.exit(0)

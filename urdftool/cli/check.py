@@ -1,0 +1,70 @@
+"""`urdftool check PATH...`: lint files and directories."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from urdftool.cli import format_option, load_options, package_option, split_args
+
+
+@click.command("check")
+@click.argument("inputs", nargs=-1, required=True, metavar="PATH... [NAME:=VALUE...]")
+@format_option("text", "json", "sarif", "github")
+@package_option
+@click.option("--strict", is_flag=True, default=None, help="Warnings fail the run too (exit 1).")
+@click.option("--select", multiple=True, metavar="RULE|FAMILY",
+              help="Only these rules or families (repeatable, or comma-separated).")
+@click.option("--ignore", multiple=True, metavar="RULE|FAMILY",
+              help="Skip these rules or families (repeatable, or comma-separated).")
+@click.option("--fix", is_flag=True, help="Write the repaired XML (needs -o).")
+@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Where --fix writes.")
+@click.pass_context
+def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output):
+    """Lint robot descriptions (*.urdf, *.xacro, *.urdf.xacro, *.sdf); all findings in one pass.
+
+    Exit code 0: no errors (with --strict: no warnings either); 1: findings; 2: could not check.
+    """
+    from urdftool.check import CheckOptions, check_paths
+    from urdftool.config import load_config
+    from urdftool.errors import ToolError
+
+    paths, xacro_args = split_args(inputs)
+    if not paths:
+        raise ToolError("check needs at least one PATH")
+    config = load_config(Path(paths[0]))
+
+    def split(values):
+        return [part.strip() for value in values for part in value.split(",") if part.strip()]
+
+    options = CheckOptions(load_options(packages, xacro_args), split(select), split(ignore),
+                           config, ctx.obj.get("debug", False))
+    if fix:
+        from urdftool.fix import write_fixed
+
+        if len(paths) != 1 or not output:
+            raise ToolError("--fix repairs one file: give exactly one PATH and -o OUT")
+        write_fixed(paths[0], output)
+    report = check_paths(paths, options)
+    if fmt == "json":
+        from urdftool.report import format_json
+
+        click.echo(format_json(report))
+    elif fmt == "sarif":
+        from urdftool.report import format_sarif
+        from urdftool.rules import load_all
+
+        click.echo(format_sarif(report, {r.id: r.summary for r in load_all().values()}))
+    elif fmt == "github":
+        from urdftool.report import format_github
+
+        text = format_github(report)
+        if text:
+            click.echo(text)
+    else:
+        from urdftool.cli import stdout_console
+        from urdftool.report import render_text
+
+        render_text(report, stdout_console())
+    ctx.exit(report.exit_code(strict if strict is not None else config.strict))

@@ -1,0 +1,14 @@
+"""`urdftool jacobian`: placeholder until its issue lands."""
+
+from __future__ import annotations
+
+import click
+
+
+@click.command("jacobian", context_settings={"ignore_unknown_options": True})
+@click.argument("args", nargs=-1)
+def command(args):
+    """Not implemented yet."""
+    from urdftool.errors import ToolError
+
+    raise ToolError("'jacobian' is not implemented yet")

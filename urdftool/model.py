@@ -1,0 +1,398 @@
+"""The robot model: typed, immutable records of links, joints and the rest, built once from a
+parsed document and read by every rule and command. Every record keeps where it was written.
+
+Values that do not parse are kept as ``None`` here (the ``schema`` rules report them), so that
+building a model never fails on bad input.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:  # pragma: no cover
+    from lxml import etree
+
+    from urdftool.source import Source  # noqa: F401
+
+Vec3 = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class Loc:
+    """Where something was written: the user's file and 1-based line/column.
+
+    ``via`` lists the macro call sites ("file:line") that produced the element, innermost first.
+    """
+
+    path: str
+    line: int | None = None
+    column: int | None = None
+    element: str | None = None
+    via: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Pose:
+    xyz: Vec3 = (0.0, 0.0, 0.0)
+    rpy: Vec3 = (0.0, 0.0, 0.0)
+
+    @property
+    def is_identity(self) -> bool:
+        return self.xyz == (0.0, 0.0, 0.0) and self.rpy == (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """One shape. ``kind`` is box, cylinder, sphere, mesh, capsule, or None when missing."""
+
+    kind: str | None
+    size: Vec3 | None = None  # box
+    radius: float | None = None  # cylinder, sphere, capsule
+    length: float | None = None  # cylinder, capsule
+    filename: str | None = None  # mesh, as written
+    scale: Vec3 = (1.0, 1.0, 1.0)  # mesh
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
+class Shape:
+    """A visual or a collision: a geometry placed in the link frame."""
+
+    role: str  # "visual" or "collision"
+    name: str | None
+    origin: Pose
+    geometry: Geometry
+    material: str | None = None  # visual only: the material name referenced or defined
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
+class Inertial:
+    origin: Pose
+    mass: float | None
+    ixx: float | None
+    ixy: float | None
+    ixz: float | None
+    iyy: float | None
+    iyz: float | None
+    izz: float | None
+    loc: Loc | None = None
+    mass_loc: Loc | None = None
+    inertia_loc: Loc | None = None
+
+    @property
+    def tensor(self) -> tuple[tuple[float, float, float], ...] | None:
+        """The 3x3 inertia tensor about the COM in the inertial frame, or None if incomplete."""
+        values = (self.ixx, self.ixy, self.ixz, self.iyy, self.iyz, self.izz)
+        if any(v is None or not math.isfinite(v) for v in values):
+            return None
+        ixx, ixy, ixz, iyy, iyz, izz = values  # type: ignore[misc]
+        return ((ixx, ixy, ixz), (ixy, iyy, iyz), (ixz, iyz, izz))
+
+
+@dataclass(frozen=True)
+class Link:
+    name: str | None
+    inertial: Inertial | None
+    visuals: tuple[Shape, ...]
+    collisions: tuple[Shape, ...]
+    loc: Loc | None = None
+
+    @property
+    def shapes(self) -> tuple[Shape, ...]:
+        return self.visuals + self.collisions
+
+
+@dataclass(frozen=True)
+class Limit:
+    lower: float | None
+    upper: float | None
+    effort: float | None
+    velocity: float | None
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
+class Mimic:
+    joint: str | None
+    multiplier: float | None = 1.0
+    offset: float | None = 0.0
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
+class Dynamics:
+    damping: float | None = 0.0
+    friction: float | None = 0.0
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
+class SafetyController:
+    soft_lower_limit: float | None
+    soft_upper_limit: float | None
+    k_position: float | None
+    k_velocity: float | None
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
+class Calibration:
+    rising: float | None
+    falling: float | None
+    loc: Loc | None = None
+
+
+MOVING_JOINT_TYPES = ("revolute", "continuous", "prismatic", "floating", "planar")
+JOINT_TYPES = MOVING_JOINT_TYPES + ("fixed",)
+
+
+@dataclass(frozen=True)
+class Joint:
+    name: str | None
+    type: str | None
+    parent: str | None
+    child: str | None
+    origin: Pose
+    axis: Vec3 | None  # None when the <axis> element is absent (URDF default is 1 0 0)
+    limit: Limit | None = None
+    mimic: Mimic | None = None
+    dynamics: Dynamics | None = None
+    safety: SafetyController | None = None
+    calibration: Calibration | None = None
+    loc: Loc | None = None
+
+    @property
+    def moving(self) -> bool:
+        return self.type in MOVING_JOINT_TYPES
+
+    @property
+    def axis_or_default(self) -> Vec3:
+        return self.axis if self.axis is not None else (1.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Material:
+    name: str | None
+    rgba: tuple[float, ...] | None
+    texture: str | None
+    loc: Loc | None = None
+
+
+@dataclass(frozen=True)
+class Robot:
+    """A robot as written. ``links`` and ``joints`` keep every element in document order,
+    duplicates included; ``link``/``joint`` look one up by name (first definition wins)."""
+
+    name: str | None
+    links: tuple[Link, ...]
+    joints: tuple[Joint, ...]
+    materials: tuple[Material, ...]  # top-level and inline material definitions
+    source: Source
+    root: Any = None  # the lxml root element of the (expanded) document, or None
+    _link_index: dict[str, Link] = field(default_factory=dict, repr=False, compare=False)
+    _joint_index: dict[str, Joint] = field(default_factory=dict, repr=False, compare=False)
+
+    def __post_init__(self):
+        for link in self.links:
+            if link.name is not None:
+                self._link_index.setdefault(link.name, link)
+        for joint in self.joints:
+            if joint.name is not None:
+                self._joint_index.setdefault(joint.name, joint)
+
+    def link(self, name: str | None) -> Link | None:
+        return self._link_index.get(name) if name is not None else None
+
+    def joint(self, name: str | None) -> Joint | None:
+        return self._joint_index.get(name) if name is not None else None
+
+    def child_joints(self, link_name: str) -> list[Joint]:
+        return [j for j in self.joints if j.parent == link_name]
+
+    def parent_joint(self, link_name: str) -> Joint | None:
+        for joint in self.joints:
+            if joint.child == link_name:
+                return joint
+        return None
+
+    def roots(self) -> list[str]:
+        """Links that are no joint's child, in document order."""
+        children = {j.child for j in self.joints}
+        return [l.name for l in self.links if l.name is not None and l.name not in children]
+
+    def loc(self, element: etree._Element) -> Loc:
+        """Where an element of ``root`` was written."""
+        return self.source.loc(element)
+
+    def elements(self, tag: str) -> list[etree._Element]:
+        """Direct children of <robot> with this tag (e.g. gazebo, transmission)."""
+        if self.root is None:
+            return []
+        return [e for e in self.root if isinstance(e.tag, str) and e.tag == tag]
+
+
+# -- building the model from a parsed document --------------------------------------------------
+
+
+def parse_float(text: str | None) -> float | None:
+    """A float, or None when absent or unparsable (the schema rules report those)."""
+    if text is None:
+        return None
+    try:
+        return float(text.strip())
+    except ValueError:
+        return None
+
+
+def parse_vector(text: str | None, size: int = 3) -> tuple[float, ...] | None:
+    if text is None:
+        return None
+    parts = text.split()
+    if len(parts) != size:
+        return None
+    try:
+        return tuple(float(p) for p in parts)
+    except ValueError:
+        return None
+
+
+def _child(element, tag: str):
+    for child in element:
+        if child.tag == tag:
+            return child
+    return None
+
+
+def _pose(element) -> Pose:
+    origin = _child(element, "origin") if element is not None else None
+    if origin is None:
+        return Pose()
+    xyz = parse_vector(origin.get("xyz")) or (0.0, 0.0, 0.0)
+    rpy = parse_vector(origin.get("rpy")) or (0.0, 0.0, 0.0)
+    return Pose(xyz, rpy)  # type: ignore[arg-type]
+
+
+def _geometry(element, source: Source) -> Geometry:
+    geometry = _child(element, "geometry")
+    shape = None
+    if geometry is not None:
+        shape = next((c for c in geometry if isinstance(c.tag, str)), None)
+    if shape is None:
+        return Geometry(None, loc=source.loc(geometry if geometry is not None else element))
+    loc = source.loc(shape)
+    kind = shape.tag
+    if kind == "box":
+        return Geometry(kind, size=parse_vector(shape.get("size")), loc=loc)  # type: ignore[arg-type]
+    if kind in ("cylinder", "capsule"):
+        return Geometry(kind, radius=parse_float(shape.get("radius")),
+                        length=parse_float(shape.get("length")), loc=loc)
+    if kind == "sphere":
+        return Geometry(kind, radius=parse_float(shape.get("radius")), loc=loc)
+    if kind == "mesh":
+        scale = parse_vector(shape.get("scale")) if shape.get("scale") is not None else (1.0, 1.0, 1.0)
+        return Geometry(kind, filename=shape.get("filename"), scale=scale or (1.0, 1.0, 1.0),  # type: ignore[arg-type]
+                        loc=loc)
+    return Geometry(kind, loc=loc)
+
+
+def _material(element, source: Source) -> Material:
+    color = _child(element, "color")
+    texture = _child(element, "texture")
+    rgba = parse_vector(color.get("rgba"), 4) if color is not None else None
+    return Material(element.get("name"), rgba, texture.get("filename") if texture is not None else None,
+                    source.loc(element))
+
+
+def _shape(element, source: Source, materials: list[Material]) -> Shape:
+    material_name = None
+    material = _child(element, "material")
+    if material is not None:
+        material_name = material.get("name")
+        if _child(material, "color") is not None or _child(material, "texture") is not None:
+            materials.append(_material(material, source))
+    return Shape(element.tag, element.get("name"), _pose(element), _geometry(element, source),
+                 material_name, source.loc(element))
+
+
+def _inertial(element, source: Source) -> Inertial | None:
+    inertial = _child(element, "inertial")
+    if inertial is None:
+        return None
+    mass = _child(inertial, "mass")
+    inertia = _child(inertial, "inertia")
+
+    def moment(name: str) -> float | None:
+        return parse_float(inertia.get(name)) if inertia is not None else None
+
+    return Inertial(_pose(inertial), parse_float(mass.get("value")) if mass is not None else None,
+                    moment("ixx"), moment("ixy"), moment("ixz"), moment("iyy"), moment("iyz"),
+                    moment("izz"), source.loc(inertial),
+                    source.loc(mass) if mass is not None else None,
+                    source.loc(inertia) if inertia is not None else None)
+
+
+def _link(element, source: Source, materials: list[Material]) -> Link:
+    visuals = tuple(_shape(c, source, materials) for c in element if c.tag == "visual")
+    collisions = tuple(_shape(c, source, materials) for c in element if c.tag == "collision")
+    return Link(element.get("name"), _inertial(element, source), visuals, collisions,
+                source.loc(element))
+
+
+def _joint(element, source: Source) -> Joint:
+    parent = _child(element, "parent")
+    child = _child(element, "child")
+    axis = _child(element, "axis")
+    limit = _child(element, "limit")
+    mimic = _child(element, "mimic")
+    dynamics = _child(element, "dynamics")
+    safety = _child(element, "safety_controller")
+    calibration = _child(element, "calibration")
+
+    def get(e, name, default=None):
+        if e is None or e.get(name) is None:
+            return default
+        return parse_float(e.get(name))
+
+    return Joint(
+        name=element.get("name"),
+        type=element.get("type"),
+        parent=parent.get("link") if parent is not None else None,
+        child=child.get("link") if child is not None else None,
+        origin=_pose(element),
+        axis=(parse_vector(axis.get("xyz")) if axis.get("xyz") is not None else (1.0, 0.0, 0.0))
+        if axis is not None else None,  # type: ignore[arg-type]
+        limit=Limit(get(limit, "lower", 0.0), get(limit, "upper", 0.0), get(limit, "effort"),
+                    get(limit, "velocity"), source.loc(limit)) if limit is not None else None,
+        mimic=Mimic(mimic.get("joint"), get(mimic, "multiplier", 1.0), get(mimic, "offset", 0.0),
+                    source.loc(mimic)) if mimic is not None else None,
+        dynamics=Dynamics(get(dynamics, "damping", 0.0), get(dynamics, "friction", 0.0),
+                          source.loc(dynamics)) if dynamics is not None else None,
+        safety=SafetyController(get(safety, "soft_lower_limit", 0.0),
+                                get(safety, "soft_upper_limit", 0.0), get(safety, "k_position", 0.0),
+                                get(safety, "k_velocity"), source.loc(safety))
+        if safety is not None else None,
+        calibration=Calibration(get(calibration, "rising"), get(calibration, "falling"),
+                                source.loc(calibration)) if calibration is not None else None,
+        loc=source.loc(element),
+    )
+
+
+def build_robot(source: Source) -> Robot:
+    """The model of a loaded source. Never raises: a missing or broken document gives an empty
+    robot, and the problems recorded while loading are reported by the xml/xacro rules."""
+    root = source.root
+    if root is None or root.tag != "robot":
+        return Robot(root.get("name") if root is not None else None, (), (), (), source, root)
+    materials: list[Material] = []
+    links, joints = [], []
+    for element in root:
+        if element.tag == "link":
+            links.append(_link(element, source, materials))
+        elif element.tag == "joint":
+            joints.append(_joint(element, source))
+        elif element.tag == "material":
+            materials.append(_material(element, source))
+    return Robot(root.get("name"), tuple(links), tuple(joints), tuple(materials), source, root)

@@ -1,0 +1,32 @@
+"""Writing results: to stdout or to ``-o``, never over an input file, atomically."""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+from urdftool.errors import ToolError
+
+
+def write_output(text: str, output: str | None, inputs: list[str] = (), in_place: bool = False) -> None:
+    """Print ``text`` or write it to ``output`` (temp file + rename). Refuses to overwrite one of
+    ``inputs`` unless ``in_place``."""
+    if output is None or output == "-":
+        sys.stdout.write(text)
+        return
+    target = Path(output)
+    if not in_place and any(target.resolve() == Path(i).resolve() for i in inputs):
+        raise ToolError(f"{output}: refusing to overwrite an input file (use --in-place)")
+    directory = target.resolve().parent
+    if not directory.is_dir():
+        raise ToolError(f"{output}: directory {directory} does not exist")
+    handle, temporary = tempfile.mkstemp(dir=directory, prefix=f".{target.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+            stream.write(text)
+        os.replace(temporary, target)
+    except OSError as exc:
+        Path(temporary).unlink(missing_ok=True)
+        raise ToolError(f"{output}: cannot write: {exc.strerror or exc}") from None

@@ -1,0 +1,97 @@
+"""Package resolution: ``package://NAME/...`` and ``$(find NAME)``.
+
+Packages come from, in order: ``-P NAME=DIR`` options, the nearest ``package.xml`` above the
+file (and its sibling packages), ``ROS_PACKAGE_PATH`` and ``AMENT_PREFIX_PATH``.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+_NAME_RE = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
+
+
+def _package_name(package_xml: Path) -> str | None:
+    try:
+        match = _NAME_RE.search(package_xml.read_text(encoding="utf-8", errors="replace"))
+    except OSError:
+        return None
+    return match.group(1) if match else None
+
+
+class PackageResolver:
+    """Finds package directories by name for one input file."""
+
+    def __init__(self, explicit: dict[str, str] | None = None, start: Path | None = None,
+                 environ: dict[str, str] | None = None):
+        self.explicit = {k: Path(v).resolve() for k, v in (explicit or {}).items()}
+        self.start = start
+        self.environ = os.environ if environ is None else environ
+        self._found: dict[str, Path] | None = None
+
+    def _discover(self) -> dict[str, Path]:
+        found: dict[str, Path] = {}
+        if self.start is not None:
+            directory = self.start.resolve()
+            directory = directory if directory.is_dir() else directory.parent
+            for parent in (directory, *directory.parents):
+                if (parent / "package.xml").is_file():
+                    own = _package_name(parent / "package.xml")
+                    if own:
+                        found.setdefault(own, parent)
+                    try:
+                        siblings = sorted(parent.parent.iterdir())
+                    except OSError:
+                        siblings = []
+                    for sibling in siblings[:500]:
+                        name = _package_name(sibling / "package.xml") if sibling.is_dir() else None
+                        if name:
+                            found.setdefault(name, sibling)
+                    break
+        for entry in self.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
+            if entry and Path(entry).is_dir():
+                base = Path(entry)
+                if (base / "package.xml").is_file():
+                    name = _package_name(base / "package.xml")
+                    if name:
+                        found.setdefault(name, base)
+                for xml in sorted(base.glob("*/package.xml")) + sorted(base.glob("*/*/package.xml")):
+                    name = _package_name(xml)
+                    if name:
+                        found.setdefault(name, xml.parent)
+        for prefix in self.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
+            if prefix:
+                index = Path(prefix) / "share" / "ament_index" / "resource_index" / "packages"
+                if index.is_dir():
+                    for marker in index.iterdir():
+                        found.setdefault(marker.name, Path(prefix) / "share" / marker.name)
+        return found
+
+    def find(self, name: str) -> Path | None:
+        """The directory of package ``name``, or None."""
+        if name in self.explicit:
+            return self.explicit[name]
+        if self._found is None:
+            self._found = self._discover()
+        return self._found.get(name)
+
+    def roots(self) -> list[Path]:
+        """Every package directory known (the places an input may legitimately read from)."""
+        if self._found is None:
+            self._found = self._discover()
+        return list(self.explicit.values()) + list(self._found.values())
+
+    def resolve_uri(self, uri: str, base_dir: Path) -> Path | None:
+        """Resolve a mesh or resource URI to a local path; None when it cannot be resolved."""
+        if uri.startswith("package://"):
+            name, _, rest = uri[len("package://"):].partition("/")
+            package = self.find(name)
+            return package / rest if package is not None else None
+        if uri.startswith("file://"):
+            return Path(uri[len("file://"):])
+        if "://" in uri:
+            return None
+        path = Path(uri)
+        return path if path.is_absolute() else base_dir / path

@@ -1,0 +1,161 @@
+"""Diagnostics, the report of a ``check`` run, and its formatters (text, json, sarif, github).
+
+Formatters return strings; the CLI prints them. Floats in machine output are never rounded.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, field
+
+from urdftool import __version__
+from urdftool.model import Loc
+
+SEVERITIES = ("error", "warning", "info")
+
+
+@dataclass(frozen=True)
+class Finding:
+    """What a rule found: a message at a place, with an optional fix hint.
+
+    ``severity`` overrides the rule's default when a rule grades its own findings
+    (e.g. 2x over a bound is an error, 1x-2x a warning).
+    """
+
+    message: str
+    loc: Loc | None
+    hint: str | None = None
+    severity: str | None = None
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    rule: str
+    severity: str
+    message: str
+    path: str
+    line: int | None
+    column: int | None
+    element: str | None
+    hint: str | None
+
+    def to_json(self) -> dict:
+        return asdict(self)
+
+
+@dataclass
+class FileReport:
+    path: str
+    robot: str | None
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    texts: dict[str, str] = field(default_factory=dict, repr=False)  # for source excerpts
+
+    def to_json(self) -> dict:
+        return {"path": self.path, "robot": self.robot,
+                "diagnostics": [d.to_json() for d in self.diagnostics]}
+
+
+@dataclass
+class Report:
+    files: list[FileReport] = field(default_factory=list)
+
+    def count(self, severity: str) -> int:
+        return sum(d.severity == severity for f in self.files for d in f.diagnostics)
+
+    def diagnostics(self) -> list[Diagnostic]:
+        return [d for f in self.files for d in f.diagnostics]
+
+    def exit_code(self, strict: bool = False) -> int:
+        failing = ("error", "warning") if strict else ("error",)
+        return 1 if any(d.severity in failing for d in self.diagnostics()) else 0
+
+    def summary(self) -> dict:
+        return {"files": len(self.files), "errors": self.count("error"),
+                "warnings": self.count("warning"), "infos": self.count("info")}
+
+    def to_json(self) -> dict:
+        return {"tool": "urdftool", "version": __version__,
+                "files": [f.to_json() for f in self.files], "summary": self.summary()}
+
+
+def format_json(report: Report) -> str:
+    return json.dumps(report.to_json(), indent=2)
+
+
+def format_github(report: Report) -> str:
+    """GitHub Actions workflow commands (::error file=...,line=...::message)."""
+    level = {"error": "error", "warning": "warning", "info": "notice"}
+
+    def escape(value: str, prop: bool = False) -> str:
+        value = value.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+        return value.replace(":", "%3A").replace(",", "%2C") if prop else value
+
+    lines = []
+    for d in report.diagnostics():
+        props = [f"file={escape(d.path, True)}"]
+        if d.line:
+            props.append(f"line={d.line}")
+        if d.column:
+            props.append(f"col={d.column}")
+        props.append(f"title={escape(d.rule, True)}")
+        text = d.message + (f" (fix: {d.hint})" if d.hint else "")
+        lines.append(f"::{level[d.severity]} {','.join(props)}::{escape(text)}")
+    return "\n".join(lines)
+
+
+def format_sarif(report: Report, rule_docs: dict[str, str] | None = None) -> str:
+    """SARIF 2.1.0, one run, rules listed in the driver."""
+    level = {"error": "error", "warning": "warning", "info": "note"}
+    rule_ids = sorted({d.rule for d in report.diagnostics()})
+    rules = [{"id": r, "shortDescription": {"text": (rule_docs or {}).get(r, r)}} for r in rule_ids]
+    results = []
+    for d in report.diagnostics():
+        region = {}
+        if d.line:
+            region["startLine"] = d.line
+        if d.column:
+            region["startColumn"] = d.column
+        location = {"physicalLocation": {"artifactLocation": {"uri": d.path}}}
+        if region:
+            location["physicalLocation"]["region"] = region
+        message = d.message + (f" Fix: {d.hint}" if d.hint else "")
+        results.append({"ruleId": d.rule, "ruleIndex": rule_ids.index(d.rule),
+                        "level": level[d.severity], "message": {"text": message},
+                        "locations": [location]})
+    sarif = {
+        "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
+        "version": "2.1.0",
+        "runs": [{"tool": {"driver": {"name": "urdftool", "version": __version__,
+                                      "informationUri": "https://pypi.org/project/urdftool/",
+                                      "rules": rules}},
+                  "results": results}],
+    }
+    return json.dumps(sarif, indent=2)
+
+
+def render_text(report: Report, console) -> None:
+    """Human output on a rich console: file:line:col, severity, rule, message, the source line
+    with a caret, the hint; then a summary line."""
+    from rich.markup import escape
+    from rich.text import Text
+
+    style = {"error": "bold red", "warning": "yellow", "info": "cyan"}
+    for file in report.files:
+        for d in file.diagnostics:
+            where = d.path + (f":{d.line}" if d.line else "") + (f":{d.column}" if d.column else "")
+            console.print(f"[bold]{escape(where)}[/]: [{style[d.severity]}]{d.severity}[/] "
+                          f"[dim]{d.rule}[/] {escape(d.message)}", highlight=False)
+            text = file.texts.get(d.path)
+            if text is not None and d.line:
+                lines = text.splitlines()
+                if 0 < d.line <= len(lines):
+                    source_line = lines[d.line - 1].expandtabs(4)
+                    console.print(Text(f"  {d.line:>5} | {source_line}", style="dim"))
+                    if d.column:
+                        console.print(Text(" " * (10 + d.column - 1) + "^", style=style[d.severity]))
+            if d.hint:
+                console.print(f"        [green]fix:[/] {escape(d.hint)}", highlight=False)
+    s = report.summary()
+    colour = "red" if s["errors"] else ("yellow" if s["warnings"] else "green")
+    console.print(f"[{colour}]{s['files']} file(s): {s['errors']} error(s), "
+                  f"{s['warnings']} warning(s), {s['infos']} info[/]", highlight=False)

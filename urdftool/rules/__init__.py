@@ -1,0 +1,91 @@
+"""The rule registry. A rule is a small function ``(robot) -> iterable of Finding`` in its
+family's module, registered with ``@rule`` together with its default severity and its
+documentation (what it does, why it matters, a failing and a passing example). The ``rules``
+command and the docs are generated from these registrations.
+
+Adding a rule touches one file: its family's module.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+from urdftool.model import Robot
+from urdftool.report import SEVERITIES, Finding
+
+FAMILIES = ("xml", "schema", "structure", "joint", "mimic", "inertia", "geometry", "mesh",
+            "material", "gazebo", "transmission", "xacro", "sdf")
+
+
+@dataclass(frozen=True)
+class Rule:
+    id: str  # FAMILY.NAME
+    severity: str
+    summary: str  # one line
+    doc: str  # why it matters, what to do
+    bad: str  # an example that triggers it
+    good: str  # the same example, fixed
+    check: Callable[[Robot], Iterable[Finding]]
+
+    @property
+    def family(self) -> str:
+        return self.id.split(".", 1)[0]
+
+
+REGISTRY: dict[str, Rule] = {}
+
+
+def rule(rule_id: str, severity: str, summary: str, *, doc: str = "", bad: str = "", good: str = ""):
+    """Register a rule function under ``rule_id`` (``FAMILY.NAME``)."""
+    family = rule_id.split(".", 1)[0]
+    if family not in FAMILIES or "." not in rule_id:
+        raise ValueError(f"rule id {rule_id!r} must be FAMILY.NAME with FAMILY in {FAMILIES}")
+    if severity not in SEVERITIES:
+        raise ValueError(f"severity {severity!r} of {rule_id}")
+
+    def register(function: Callable[[Robot], Iterable[Finding]]):
+        if rule_id in REGISTRY:
+            raise ValueError(f"rule {rule_id} registered twice")
+        REGISTRY[rule_id] = Rule(rule_id, severity, summary, doc.strip(), bad.strip(),
+                                 good.strip(), function)
+        return function
+
+    return register
+
+
+def source_rule(rule_id: str, severity: str, summary: str, **docs):
+    """Register a rule whose findings are recorded while loading (xml repair, xacro errors):
+    it reports ``robot.source.problems`` filed under its id."""
+
+    def report_problems(robot: Robot) -> Iterable[Finding]:
+        return robot.source.problems_for(rule_id)
+
+    rule(rule_id, severity, summary, **docs)(report_problems)
+
+
+_loaded = False
+
+
+def load_all() -> dict[str, Rule]:
+    """Import every family module (each registers its rules) and return the registry."""
+    global _loaded
+    if not _loaded:
+        for family in FAMILIES:
+            importlib.import_module(f"urdftool.rules.{family}")
+        _loaded = True
+    return REGISTRY
+
+
+def selected(rule_id: str, select: Iterable[str] = (), ignore: Iterable[str] = ()) -> bool:
+    """Whether a rule is on, given ``--select``/``--ignore`` lists of rule ids or families."""
+
+    def matches(patterns: Iterable[str]) -> bool:
+        family = rule_id.split(".", 1)[0]
+        return any(p == rule_id or p == family for p in patterns)
+
+    select, ignore = list(select), list(ignore)
+    if select and not matches(select):
+        return False
+    return not matches(ignore)

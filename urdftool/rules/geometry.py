@@ -1,0 +1,3 @@
+"""Rules of the `geometry` family (see DESIGN.md for what the family covers)."""
+
+from __future__ import annotations
