@@ -88,7 +88,8 @@ def detect_kind(path: Path, text: str) -> str:
 
 
 def read_text(path: Path) -> str:
-    """Read a file as text: UTF-8, or UTF-16/32 with a BOM. Raises ToolError on anything else."""
+    """Read a file as text: UTF-8, or UTF-16/32 with a BOM. Raises ToolError on anything else.
+    An encoding declaration is rewritten to UTF-8 (the text is decoded now), lines unchanged."""
     try:
         data = path.read_bytes()
     except IsADirectoryError:
@@ -100,7 +101,7 @@ def read_text(path: Path) -> str:
                           (codecs.BOM_UTF16_BE, "utf-16")):
         if data.startswith(bom):
             try:
-                return data.decode(encoding)
+                return _ENCODING_DECL_RE.sub(r"\1\2UTF-8\2", data.decode(encoding), count=1)
             except UnicodeDecodeError:
                 break
     if b"\x00" in data[:4096]:

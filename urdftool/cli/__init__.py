@@ -127,7 +127,7 @@ def main(argv: list[str] | None = None) -> None:
     """Entry point: runs the group and turns ToolError into exit code 2."""
     debug = bool(os.environ.get("URDFTOOL_DEBUG")) or "--debug" in (argv or sys.argv[1:])
     try:
-        cli.main(args=argv, prog_name="urdftool", standalone_mode=False)
+        code = cli.main(args=argv, prog_name="urdftool", standalone_mode=False)
     except click.exceptions.Exit as exc:
         sys.exit(exc.exit_code)
     except click.ClickException as exc:
@@ -149,4 +149,4 @@ def main(argv: list[str] | None = None) -> None:
         click.echo(f"urdftool: internal error: {type(exc).__name__}: {exc} "
                    "(run with --debug for details)", err=True)
         sys.exit(2)
-    sys.exit(0)
+    sys.exit(code if isinstance(code, int) else 0)
