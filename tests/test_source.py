@@ -42,7 +42,11 @@ def _package(tmp_path: Path) -> Path:
 
 def test_detect_kind():
     assert detect_kind(Path("a.urdf"), "<robot name='x'/>") == "urdf"
-    assert detect_kind(Path("a.urdf"), '<robot xmlns:xacro="http://ros.org/wiki/xacro"/>') == "xacro"
+    uses = '<robot xmlns:xacro="http://ros.org/wiki/xacro"><xacro:property name="a" value="1"/>'
+    assert detect_kind(Path("a.urdf"), uses + "</robot>") == "xacro"
+    assert detect_kind(Path("a.urdf"), '<robot><link name="${n}"/></robot>') == "xacro"
+    # generated URDFs often keep an unused xmlns:xacro: no need to run xacro on them
+    assert detect_kind(Path("a.urdf"), '<robot xmlns:xacro="http://ros.org/wiki/xacro"/>') == "urdf"
     assert detect_kind(Path("a.xml"), '<?xml version="1.0"?><sdf version="1.7"/>') == "sdf"
     assert detect_kind(Path("a.xacro"), "<robot name='x'/>") == "xacro"
 

@@ -30,6 +30,9 @@ VIA_ATTR = "urdftool-via"
 # xacro's own tags whose attributes xacro checks strictly: never tag them.
 _XACRO_BUILTINS = {"property", "macro", "arg", "include", "if", "unless", "attribute",
                    "insert_block", "call", "element"}
+# xacro is run only when the file uses it: many generated URDFs keep an unused xmlns:xacro.
+_XACRO_USE_RE = re.compile(r"<xacro:|\$\{|\$\((?:find|arg|env|optenv|eval|dirname) ")
+_COMMENT_RE = re.compile(r"<!--.*?-->", re.S)
 _ENCODING_DECL_RE = re.compile(r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2")
 
 
@@ -78,7 +81,7 @@ def detect_kind(path: Path, text: str) -> str:
     head = text[:4096]
     if re.search(r"<sdf[\s>]", head):
         return "sdf"
-    if "xmlns:xacro" in text or "<xacro:" in text or "$(find" in text or "${" in text:
+    if _XACRO_USE_RE.search(text) and _XACRO_USE_RE.search(_COMMENT_RE.sub("", text)):
         return "xacro"
     if path.suffix == ".sdf":
         return "sdf"

@@ -1,0 +1,110 @@
+"""Time `urdftool check` against urdfdom's `check_urdf` on the same files and print ratios.
+
+Figures (wall time, median of several runs, all measured in this one run):
+  floor      python -c "import lxml.etree, click, xacro"  (a Python CLI of this kind cannot beat it)
+  small      one primitive-geometry robot: urdftool check vs check_urdf
+  large      a robot with 30+ links: urdftool check vs check_urdf
+  corpus     every pybullet_data (without random_urdfs) and example-robot-data URDF:
+             ONE urdftool invocation vs one check_urdf process per file
+
+check_urdf is the C++ binary that the `pin` wheel ships (cmeel.prefix/bin/check_urdf, run with
+LD_LIBRARY_PATH=cmeel.prefix/lib), not the pip wrapper script.
+
+Usage: python benchmarks/bench_check.py [--runs N]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from tests.conftest import example_robot_urdfs, pybullet_urdfs  # noqa: E402
+
+SMALL = """<?xml version="1.0"?>
+<robot name="small">
+  <link name="base">
+    <inertial><mass value="2"/><inertia ixx="0.03" iyy="0.03" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><geometry><box size="0.3 0.3 0.3"/></geometry></visual>
+    <collision><geometry><box size="0.3 0.3 0.3"/></geometry></collision>
+  </link>
+  <link name="wheel">
+    <inertial><mass value="0.5"/><inertia ixx="0.0007" iyy="0.0007" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><geometry><cylinder radius="0.06" length="0.04"/></geometry></visual>
+    <collision><geometry><cylinder radius="0.06" length="0.04"/></geometry></collision>
+  </link>
+  <joint name="axle" type="continuous"><parent link="base"/><child link="wheel"/>
+    <origin xyz="0 0.2 0" rpy="1.5707963267948966 0 0"/><axis xyz="0 0 1"/>
+    <limit effort="5" velocity="10"/></joint>
+</robot>
+"""
+
+
+def check_urdf_command() -> tuple[list[str], dict]:
+    import cmeel  # noqa: F401 - the pin wheel's prefix
+
+    for entry in sys.path:
+        prefix = Path(entry) / "cmeel.prefix"
+        if (prefix / "bin" / "check_urdf").is_file():
+            env = {**os.environ, "LD_LIBRARY_PATH": str(prefix / "lib")}
+            return [str(prefix / "bin" / "check_urdf")], env
+    raise SystemExit("check_urdf not found (pip install pin)")
+
+
+def wall(command: list[str], runs: int, env: dict | None = None) -> float:
+    """Median wall time of `command` in seconds."""
+    times = []
+    for _ in range(runs):
+        start = time.perf_counter()
+        subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--runs", type=int, default=7)
+    args = parser.parse_args()
+    urdftool = [sys.executable, "-m", "urdftool", "check", "--format", "json"]
+    check_urdf, env = check_urdf_command()
+
+    with tempfile.TemporaryDirectory() as tmp:
+        small = Path(tmp) / "small.urdf"
+        small.write_text(SMALL)
+        corpus = [p for p in pybullet_urdfs() + example_robot_urdfs()]
+        large = max(example_robot_urdfs(), key=lambda p: p.read_text().count("<link"))
+        n_links = large.read_text().count("<link")
+
+        floor = wall([sys.executable, "-c", "import lxml.etree, click, xacro"], args.runs)
+        ours_small = wall(urdftool + [str(small)], args.runs)
+        theirs_small = wall(check_urdf + [str(small)], args.runs, env)
+        ours_large = wall(urdftool + [str(large)], args.runs)
+        theirs_large = wall(check_urdf + [str(large)], args.runs, env)
+        ours_corpus = wall(urdftool + [str(p) for p in corpus], max(1, args.runs // 3))
+        start = time.perf_counter()
+        for path in corpus:
+            subprocess.run(check_urdf + [str(path)], stdout=subprocess.DEVNULL,
+                           stderr=subprocess.DEVNULL, env=env)
+        theirs_corpus = time.perf_counter() - start
+
+    ms = 1000.0
+    print(f"floor (import lxml.etree, click, xacro): {floor * ms:7.1f} ms")
+    print(f"small robot   urdftool {ours_small * ms:7.1f} ms   check_urdf {theirs_small * ms:6.1f} ms"
+          f"   urdftool/floor = {ours_small / floor:.2f}x (target <= 1.5x)")
+    print(f"large robot   ({large.name}, {n_links} links) urdftool {ours_large * ms:7.1f} ms   "
+          f"check_urdf {theirs_large * ms:6.1f} ms   ratio {ours_large / theirs_large:.1f}x")
+    print(f"corpus        {len(corpus)} files: urdftool (one process) {ours_corpus:6.2f} s   "
+          f"check_urdf (one process per file) {theirs_corpus:6.2f} s   "
+          f"ratio {ours_corpus / theirs_corpus:.2f}x (target < 1)")
+
+
+if __name__ == "__main__":
+    main()
