@@ -27,9 +27,6 @@ from urdftool.xmlrepair import repair, secure_parser
 ROBOT_SUFFIXES = (".urdf", ".xacro", ".sdf")
 LOC_ATTR = "urdftool-loc"
 VIA_ATTR = "urdftool-via"
-# xacro's own tags whose attributes xacro checks strictly: never tag them.
-_XACRO_BUILTINS = {"property", "macro", "arg", "include", "if", "unless", "attribute",
-                   "insert_block", "call", "element"}
 # xacro is run only when the file uses it: many generated URDFs keep an unused xmlns:xacro.
 _XACRO_USE_RE = re.compile(r"<xacro:|\$\{|\$\((?:find|arg|env|optenv|eval|dirname) ")
 _COMMENT_RE = re.compile(r"<!--.*?-->", re.S)
@@ -203,17 +200,33 @@ def quiet_stderr():
         yield buffer
 
 
+_INCLUDE_RE = re.compile(r"<xacro:include\s[^>]*filename\s*=\s*[\"']([^\"']+)[\"']")
+
+
 def discover(paths: list[str]) -> list[Path]:
-    """Robot files among paths: files as given, directories searched recursively."""
+    """Robot files among paths: files as given, directories searched recursively. In a
+    directory, xacro files that another file found there includes are fragments (macros,
+    materials, gazebo blocks), checked through the file that includes them, not alone."""
     found: list[Path] = []
     for raw in paths:
         path = Path(raw)
         if path.is_dir():
+            in_directory: list[Path] = []
             for dirpath, dirnames, filenames in os.walk(path):
                 dirnames[:] = sorted(d for d in dirnames if not d.startswith("."))
                 for name in sorted(filenames):
                     if name.endswith(ROBOT_SUFFIXES):
-                        found.append(Path(dirpath) / name)
+                        in_directory.append(Path(dirpath) / name)
+            included: set[str] = set()
+            for candidate in in_directory:
+                if candidate.suffix == ".xacro":
+                    try:
+                        head = candidate.read_text(encoding="utf-8", errors="replace")
+                    except OSError:
+                        continue
+                    included.update(Path(m).name for m in _INCLUDE_RE.findall(head))
+            found.extend(p for p in in_directory
+                         if not (p.suffix == ".xacro" and p.name in included))
         elif path.exists():
             found.append(path)
         else:

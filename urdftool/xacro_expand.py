@@ -18,7 +18,6 @@ from urdftool.report import Finding
 from urdftool.source import (
     LOC_ATTR,
     VIA_ATTR,
-    _XACRO_BUILTINS,
     LoadOptions,
     Source,
     _column,
@@ -47,8 +46,6 @@ def _tag_elements(root, file_index: int, text: str) -> None:
     for element in root.iter():
         if not isinstance(element.tag, str):
             continue
-        if element.prefix == "xacro" and etree.QName(element).localname in _XACRO_BUILTINS:
-            continue
         line = element.sourceline or 0
         column = _column(lines[line - 1], _qualified_tag(element)) if 0 < line <= len(lines) else None
         element.set(LOC_ATTR, f"{file_index}:{line}:{column or 0}")
@@ -64,7 +61,8 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     import xacro
     import xacro.substitution_args as substitution_args
 
-    saved = (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find)
+    saved = (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
+             xacro.process_include)
 
     def display_path(filename: str) -> str:
         candidate = Path(filename)
@@ -84,7 +82,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
                 text = read_text(full)
             except Exception as exc:  # noqa: BLE001 - reported as a xacro problem
                 xacro.filestack.pop()
-                raise xacro.XacroException(f"cannot read {filename}: {exc}") from None
+                raise xacro.XacroException("cannot include", exc=OSError(str(exc))) from None
             shown = display_path(str(full))
         else:
             text = inp if isinstance(inp, str) else inp.read()
@@ -133,6 +131,20 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
                 exc.urdftool_loc = node.getAttribute(LOC_ATTR)
             raise
 
+    def process_include(elt, macros, symbols, func):
+        """A missing include is reported and skipped, so the rest is still expanded."""
+        try:
+            return saved[4](elt, macros, symbols, func)
+        except xacro.XacroException as exc:
+            if not hasattr(exc, "urdftool_loc") and elt.getAttribute(LOC_ATTR):
+                exc.urdftool_loc = elt.getAttribute(LOC_ATTR)
+            if not isinstance(exc.exc, OSError) or not elt.getAttribute(LOC_ATTR):
+                raise
+            source.add("xacro.error", Finding(f"xacro: {str(exc).strip()}; skipped, the rest is "
+                                              "expanded without it",
+                                              _parse_loc(exc.urdftool_loc, files)))
+            xacro.replace_node(elt, by=None)
+
     def find(package: str) -> str:
         directory = source.resolver.find(package) if source.resolver else None
         if directory is None:
@@ -141,12 +153,12 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         return str(directory)
 
     xacro.parse, xacro.handle_macro_call, xacro.eval_all = parse, handle_macro_call, eval_all
-    substitution_args._eval_find = find
+    substitution_args._eval_find, xacro.process_include = find, process_include
     try:
         yield xacro
     finally:
-        (xacro.parse, xacro.handle_macro_call, xacro.eval_all,
-         substitution_args._eval_find) = saved
+        (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
+         xacro.process_include) = saved
 
 
 def expand(source: Source, path: Path, options: LoadOptions) -> None:
