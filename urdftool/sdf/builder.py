@@ -1,0 +1,881 @@
+"""SDFormat model -> URDF document.
+
+URDF puts each child link's frame at its joint, so for every moving joint the child link's
+frame becomes the joint frame and the child's visuals, collisions, inertial and sensors are
+re-expressed in it. Root links and links hung on fixed joints keep their SDF link frame. Joint
+origins go from the parent's URDF frame to the joint frame, all resolved through the SDF pose
+graph at the zero configuration. Numbers are written with ``repr`` (never rounded).
+
+What URDF cannot express gets an ``sdf.*`` diagnostic and the nearest safe form: split joints
+for ball/universal/revolute2/screw, a mimic for gearbox, loops cut, capsules as a cylinder and
+two spheres, ellipsoids and cones enclosed, planes and heightmaps dropped; sensors and plugins
+are kept in ``<gazebo>`` blocks.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from lxml import etree
+
+from urdftool.sdf.frames import WORLD, PoseGraph
+from urdftool.sdf.reader import Entity, Reader, Scope
+from urdftool.sdf.schema import JOINT_TYPES
+from urdftool.sdf.transforms import IDENTITY, Transform
+
+UNBOUNDED = 1e16  # SDF's own "no limit" (the default of <lower>/<upper> up to 1.9)
+MOVING = ("revolute", "continuous", "prismatic")
+
+
+class ModelChoiceError(Exception):
+    """The file has no model, or several and none (or a missing one) was chosen."""
+
+
+class LoopRefused(Exception):
+    """The model has a kinematic loop and cutting was refused (--no-cut)."""
+
+
+@dataclass
+class ConvertOptions:
+    model: str | None = None
+    model_paths: list[str] = field(default_factory=list)
+    package_uris: list[str] = field(default_factory=list)  # "PREFIX" or "MODEL=PREFIX"
+    output_dir: Path | None = None  # relative mesh paths are written relative to this
+    cut_loops: bool = True
+    require_choice: bool = False  # several models and none chosen: error (convert) or first
+
+
+def fmt(value: float) -> str:
+    value = float(value) + 0.0
+    if value == int(value) and abs(value) < 1e15:
+        return repr(float(int(value)))
+    return repr(value)
+
+
+def fmtv(values) -> str:
+    return " ".join(fmt(v) for v in values)
+
+
+@dataclass
+class JointInfo:
+    entity: Entity
+    type: str
+    parent: str | None  # link key or WORLD
+    child: str | None
+    cut: bool = False
+    mimic_of: tuple[str, float] | None = None  # gearbox: (leader joint key, multiplier)
+
+    @property
+    def key(self) -> str:
+        return self.entity.key
+
+
+class Builder:
+    def __init__(self, source, reader: Reader, top: Scope, options: ConvertOptions):
+        self.source = source
+        self.reader = reader
+        self.top = top
+        self.options = options
+        self.graph = PoseGraph(top, reader)
+        self.links: list[Entity] = [e for s in top.walk() for e in s.links]
+        self.frames: list[Entity] = [e for s in top.walk() for e in s.frames]
+        self.link_keys = {e.key for e in self.links}
+        self.names: dict[str, str] = {}  # scoped key -> URDF link name
+        self.joint_names: dict[str, str] = {}
+        self._used_links: set[str] = set()
+        self._used_joints: set[str] = set()
+        self.frame_of: dict[str, Transform] = {}  # URDF link name -> pose in the top model frame
+        self.root = etree.Element("robot", name=top.name or "robot")
+        self.materials: dict[tuple, str] = {}
+        self.material_elements: list = []
+        self.unlimited: list[tuple[str, object]] = []
+
+    # -- helpers ----------------------------------------------------------------------------
+
+    def mark(self, urdf_element, sdf_element) -> None:
+        if sdf_element is not None:
+            self.source.locs[urdf_element] = self.reader.loc(sdf_element)
+
+    def report(self, rule, message, element, hint=None, severity=None) -> None:
+        self.reader.report(rule, message, element, hint, severity)
+
+    def _unique(self, wanted: str, used: set[str]) -> str:
+        name, n = wanted, 2
+        while name in used:
+            name = f"{wanted}_{n}"
+            n += 1
+        used.add(name)
+        return name
+
+    def link_name(self, key: str) -> str:
+        if key not in self.names:
+            self.names[key] = self._unique(key.replace("::", "__"), self._used_links)
+        return self.names[key]
+
+    def joint_name(self, key: str, suffix: str = "") -> str:
+        full = key + suffix
+        if full not in self.joint_names:
+            self.joint_names[full] = self._unique(full.replace("::", "__"), self._used_joints)
+        return self.joint_names[full]
+
+    def sub(self, parent, tag: str, sdf_element=None, **attrs):
+        element = etree.SubElement(parent, tag, {k: v for k, v in attrs.items() if v is not None})
+        self.mark(element, sdf_element)
+        return element
+
+    def origin(self, parent, transform: Transform, sdf_element) -> None:
+        if transform.is_identity:
+            return
+        self.sub(parent, "origin", sdf_element, xyz=fmtv(transform.xyz), rpy=fmtv(transform.rpy))
+
+    def placed(self, scope: Scope, default_key: str, element) -> Transform:
+        """Pose (in the top model frame) of a visual, collision, sensor... of a link."""
+        raw, pose_element, relative_to = self.reader.pose(element, scope.version)
+        base = default_key
+        if relative_to:
+            key = self.graph.reference(scope, relative_to, pose_element, "relative_to")
+            if key is not None:
+                base = key
+        return self.graph.pose(base) * raw
+
+    # -- the conversion ---------------------------------------------------------------------
+
+    def build(self) -> etree._Element:
+        for entity in self.links:
+            self.link_name(entity.key)
+        joints = self.read_joints()
+        self.apply_gearboxes(joints)
+        kept = self.choose_tree(joints)
+        parent_joint = {j.child: j for j in kept}
+        # URDF frames: a moving joint's child sits at the joint frame
+        for entity in self.links:
+            joint = parent_joint.get(entity.key)
+            if joint is not None and joint.type != "fixed":
+                self.frame_of[self.names[entity.key]] = self.graph.pose(joint.key)
+            else:
+                self.frame_of[self.names[entity.key]] = self.graph.pose(entity.key)
+        if any(j.parent == WORLD for j in kept):
+            world = self.link_name(WORLD)
+            self.frame_of[world] = self.graph.pose(WORLD)
+            element = self.sub(self.root, "link", None, name=world)
+            self.source.locs[element] = self.reader.loc(self.top.element)
+        for entity in self.links:
+            self.emit_link(entity, parent_joint.get(entity.key))
+        for joint in kept:
+            self.emit_joint(joint)
+        self.attach_roots(kept)
+        self.emit_frames()
+        self.emit_model_extras()
+        self.report_unlimited()
+        for element in reversed(self.material_elements):
+            self.root.insert(0, element)
+        self.add_name_comment()
+        return self.root
+
+    # -- joints -----------------------------------------------------------------------------
+
+    def read_joints(self) -> list[JointInfo]:
+        result = []
+        for scope in self.top.walk():
+            for entity in scope.joints:
+                info = self.read_joint(entity)
+                if info is not None:
+                    result.append(info)
+        return result
+
+    def read_joint(self, entity: Entity) -> JointInfo | None:
+        element = entity.element
+        joint_type = (element.get("type") or "").strip()
+        if not joint_type:
+            self.report("sdf.missing-element", f"joint '{entity.name}' has no type", element,
+                        hint='write type="revolute" (or fixed, prismatic, continuous, ...)')
+            return None
+        if joint_type not in JOINT_TYPES:
+            import difflib
+
+            guess = difflib.get_close_matches(joint_type, JOINT_TYPES, n=1)
+            self.report("sdf.bad-value", f"joint '{entity.name}' has unknown type '{joint_type}'",
+                        element, hint=f"did you mean '{guess[0]}'?" if guess else
+                        "types: " + ", ".join(JOINT_TYPES))
+            return None
+        ends = []
+        for tag in ("parent", "child"):
+            child = element.find(tag)
+            name = (child.text or "").strip() if child is not None else ""
+            if not name:
+                self.report("sdf.missing-element", f"joint '{entity.name}' has no <{tag}>",
+                            child if child is not None else element,
+                            hint=f"write <{tag}>LINK</{tag}>")
+                return None
+            if name == WORLD and entity.scope.prefix + WORLD not in self.graph.nodes:
+                if tag == "child":
+                    self.report("sdf.bad-value", f"joint '{entity.name}': the child cannot be "
+                                "'world'", child, hint="swap parent and child")
+                    return None
+                ends.append(WORLD)
+                continue
+            key = self.graph.reference(entity.scope, name, child, f"joint {tag}")
+            if key is None:
+                return None
+            link = self.graph.attached_link(key)
+            if link is None:
+                return None
+            ends.append(link)
+        if ends[0] == ends[1]:
+            self.report("sdf.bad-value", f"joint '{entity.name}' joins link "
+                        f"'{ends[0]}' to itself", element, hint="name two different links")
+            return None
+        return JointInfo(entity, joint_type, ends[0], ends[1])
+
+    def apply_gearboxes(self, joints: list[JointInfo]) -> None:
+        """A gearbox couples two joints hinged on a reference body: theta2 = -ratio * theta1.
+        URDF: the child's hinge mimics the parent's; the gearbox joint itself is dropped."""
+        by_child = {}
+        for joint in joints:
+            if joint.type != "gearbox":
+                by_child.setdefault(joint.child, []).append(joint)
+        for joint in [j for j in joints if j.type == "gearbox"]:
+            element = joint.entity.element
+            ratio = self.reader.number(element, "gearbox_ratio", 1.0)
+            reference = (element.findtext("gearbox_reference_body") or "").strip()
+            ref_key = self.graph.lookup(joint.entity.scope, reference) if reference else None
+            ref_link = self.graph.attached_link(ref_key) if ref_key else None
+            leader = [j for j in by_child.get(joint.parent, []) if j.parent == ref_link
+                      and j.type in ("revolute", "continuous")]
+            follower = [j for j in by_child.get(joint.child, []) if j.parent == ref_link
+                        and j.type in ("revolute", "continuous")]
+            joints.remove(joint)
+            if leader and follower and follower[0].mimic_of is None:
+                follower[0].mimic_of = (leader[0].key, -ratio)
+                self.report("sdf.unsupported-joint",
+                            f"gearbox joint '{joint.entity.name}' has no URDF equivalent: "
+                            f"joint '{follower[0].entity.name}' now mimics "
+                            f"'{leader[0].entity.name}' with multiplier {-ratio:g}, and the "
+                            "gearbox joint is dropped", element)
+            else:
+                self.report("sdf.unsupported-joint",
+                            f"gearbox joint '{joint.entity.name}' has no URDF equivalent and "
+                            "its links are not both hinged on the reference body "
+                            f"'{reference}': dropped", element,
+                            hint="add a <mimic> between the two hinges by hand")
+
+    def choose_tree(self, joints: list[JointInfo]) -> list[JointInfo]:
+        parent_of: dict[str, str] = {}
+        kept: list[JointInfo] = []
+        cut: list[JointInfo] = []
+        for joint in joints:
+            node, closes = joint.parent, False
+            while node is not None:
+                if node == joint.child:
+                    closes = True
+                    break
+                node = parent_of.get(node)
+            if joint.child in parent_of or closes:
+                cut.append(joint)
+                continue
+            parent_of[joint.child] = joint.parent
+            kept.append(joint)
+        for joint in cut:
+            if not self.options.cut_loops:
+                raise LoopRefused(
+                    f"joint '{joint.entity.name}' closes a kinematic loop (link "
+                    f"'{joint.child}' already hangs on another joint); URDF is a tree. "
+                    "Without --no-cut, urdftool cuts that joint.")
+            self.report("sdf.kinematic-loop",
+                        f"joint '{joint.entity.name}' closes a kinematic loop (link "
+                        f"'{joint.child}' already has a parent joint); URDF is a tree, so this "
+                        "joint is cut and the loop is left open", joint.entity.element,
+                        hint="close the loop in the simulator (e.g. a constraint plugin), or "
+                             "choose which joint to cut by reordering the joints")
+        self.parent_of = parent_of
+        return kept
+
+    def limits(self, axis, joint_type: str):
+        """lower, upper, effort, velocity (None where unbounded/unlimited)."""
+        if axis is None:
+            return None, None, None, None
+        limit = axis.find("limit")
+        if limit is None:
+            return None, None, None, None
+        values = []
+        for tag in ("lower", "upper", "effort", "velocity"):
+            value = self.reader.number(limit, tag, None)
+            if value is not None and (math.isinf(value) or abs(value) >= UNBOUNDED
+                                      or (tag in ("effort", "velocity") and value < 0)):
+                value = None
+            values.append(value)
+        return tuple(values)
+
+    def axis_vector(self, joint: JointInfo, axis) -> tuple[float, float, float]:
+        scope = joint.entity.scope
+        if axis is None:
+            return (0.0, 0.0, 1.0)
+        xyz = axis.find("xyz")
+        vector = (0.0, 0.0, 1.0)
+        if xyz is not None:
+            vector = self.reader.parse_vector(xyz, 3, (0.0, 0.0, 1.0))
+        expressed_in = None
+        version = scope.version
+        use_parent = axis.find("use_parent_model_frame")
+        if version >= (1, 7):
+            expressed_in = xyz.get("expressed_in") if xyz is not None else None
+            if use_parent is not None:
+                self.report("sdf.version-feature", "use_parent_model_frame was removed in "
+                            "SDFormat 1.7 (the axis is in the joint frame); ignored", use_parent,
+                            hint='write <xyz expressed_in="__model__"> instead')
+        else:
+            if xyz is not None and xyz.get("expressed_in") is not None:
+                self.report("sdf.version-feature", "xyz/@expressed_in needs SDFormat 1.7; a "
+                            f"{version[0]}.{version[1]} reader ignores it", xyz,
+                            hint="write use_parent_model_frame, or version 1.7 or newer")
+            if version == (1, 4) or (use_parent is not None and self.reader.boolean(
+                    axis, "use_parent_model_frame", False)):
+                expressed_in = "__model__"
+        if expressed_in:
+            key = self.graph.reference(scope, expressed_in, xyz if xyz is not None else axis,
+                                       "expressed_in")
+            if key is not None:
+                rotation = self.graph.pose(key).seen_from(self.graph.pose(joint.key))
+                vector = Transform(rot=rotation.rot, rpy_hint=None).rotate(vector)
+        return vector
+
+    def emit_joint(self, joint: JointInfo) -> None:
+        entity = joint.entity
+        element = entity.element
+        parent_name = self.link_name(joint.parent)
+        child_name = self.names[joint.child]
+        frame = self.graph.pose(joint.key)
+        if joint.type == "fixed":
+            origin = self.frame_of[child_name].seen_from(self.frame_of[parent_name])
+            j = self.sub(self.root, "joint", element, name=self.joint_name(joint.key), type="fixed")
+            self.origin(j, origin, entity.pose_element)
+            self.sub(j, "parent", element.find("parent"), link=parent_name)
+            self.sub(j, "child", element.find("child"), link=child_name)
+            return
+        origin = frame.seen_from(self.frame_of[parent_name])
+        axis = element.find("axis")
+        axis2 = element.find("axis2")
+        if joint.type in MOVING:
+            self.single(joint, self.joint_name(joint.key), parent_name, child_name, origin,
+                        joint.type, axis, self.axis_vector(joint, axis))
+            return
+        # joints URDF has not got: a chain of single joints through massless links
+        name = entity.name
+        if joint.type in ("universal", "revolute2"):
+            middle = self.extra_link(f"{joint.key}__link", element, frame)
+            self.single(joint, self.joint_name(joint.key), parent_name, middle, origin,
+                        "revolute", axis, self.axis_vector(joint, axis))
+            self.single(joint, self.joint_name(joint.key, "__axis2"), middle, child_name,
+                        IDENTITY, "revolute", axis2, self.axis_vector(joint, axis2), axis2=True)
+            self.report("sdf.unsupported-joint",
+                        f"{joint.type} joint '{name}' has no URDF equivalent: written as two "
+                        f"revolute joints '{self.joint_name(joint.key)}' and "
+                        f"'{self.joint_name(joint.key, '__axis2')}' through the massless link "
+                        f"'{middle}'", element)
+        elif joint.type == "ball":
+            first = self.extra_link(f"{joint.key}__link1", element, frame)
+            second = self.extra_link(f"{joint.key}__link2", element, frame)
+            names = [self.joint_name(joint.key), self.joint_name(joint.key, "__y"),
+                     self.joint_name(joint.key, "__z")]
+            chain = [(parent_name, first, origin, (1.0, 0.0, 0.0)),
+                     (first, second, IDENTITY, (0.0, 1.0, 0.0)),
+                     (second, child_name, IDENTITY, (0.0, 0.0, 1.0))]
+            for joint_name, (p, c, o, vector) in zip(names, chain):
+                self.single(joint, joint_name, p, c, o, "continuous", None, vector)
+            self.report("sdf.unsupported-joint",
+                        f"ball joint '{name}' has no URDF equivalent: written as three "
+                        f"continuous joints about x, y, z of the joint frame ({', '.join(names)}) "
+                        "through two massless links; the chain has a singularity where the "
+                        "ball has none", element)
+        elif joint.type == "screw":
+            middle = self.extra_link(f"{joint.key}__link", element, frame)
+            leader = self.joint_name(joint.key)
+            vector = self.axis_vector(joint, axis)
+            self.single(joint, leader, parent_name, middle, origin, "revolute", axis, vector)
+            pitch = self.screw_pitch(joint)  # metres per revolution
+            multiplier = pitch / (2 * math.pi)
+            lower, upper, _, _ = self.limits(axis, "revolute")
+            image = None
+            if lower is not None and upper is not None:
+                image = sorted((lower * multiplier, upper * multiplier))
+            follower = self.joint_name(joint.key, "__translation")
+            self.single(joint, follower, middle, child_name, IDENTITY, "prismatic", None, vector,
+                        mimic=(leader, multiplier, 0.0), bounds=image)
+            self.report("sdf.unsupported-joint",
+                        f"screw joint '{name}' has no URDF equivalent: written as revolute "
+                        f"'{leader}' and prismatic '{follower}' mimicking it "
+                        f"({multiplier:g} m/rad) through the massless link '{middle}'", element)
+
+    def screw_pitch(self, joint: JointInfo) -> float:
+        element = joint.entity.element
+        if element.find("screw_thread_pitch") is not None and joint.entity.scope.version >= (1, 10):
+            return self.reader.number(element, "screw_thread_pitch", 1.0)
+        thread = self.reader.number(element, "thread_pitch", 1.0)  # rad/m, left-handed
+        return -2 * math.pi / thread if thread else 0.0
+
+    def extra_link(self, key: str, sdf_element, frame: Transform) -> str:
+        name = self.link_name(key)
+        self.sub(self.root, "link", sdf_element, name=name)
+        self.frame_of[name] = frame
+        return name
+
+    def single(self, joint: JointInfo, name: str, parent: str, child: str, origin: Transform,
+               kind: str, axis, vector, axis2: bool = False, mimic=None, bounds=None) -> None:
+        element = joint.entity.element
+        lower, upper, effort, velocity = self.limits(axis, kind)
+        if kind == "revolute" and (lower is None or upper is None):
+            if (lower is None) != (upper is None):
+                self.report("sdf.not-in-urdf",
+                            f"joint '{joint.entity.name}' is limited on one side only "
+                            f"(lower {lower}, upper {upper}); URDF cannot express that: "
+                            "written as continuous, without the limit",
+                            axis.find("limit") if axis is not None else element,
+                            severity="warning")
+            kind = "continuous"
+        j = self.sub(self.root, "joint", element, name=name, type=kind)
+        self.origin(j, origin, joint.entity.pose_element)
+        self.sub(j, "parent", element.find("parent"), link=parent)
+        self.sub(j, "child", element.find("child"), link=child)
+        xyz = axis.find("xyz") if axis is not None else None
+        self.sub(j, "axis", xyz if xyz is not None else axis, xyz=fmtv(vector))
+        limit_element = axis.find("limit") if axis is not None else None
+        if kind in ("revolute", "prismatic") or effort is not None or velocity is not None:
+            if kind == "prismatic" and bounds is not None:
+                lower, upper = bounds
+            if kind == "prismatic" and (lower is None or upper is None):
+                lower = -UNBOUNDED if lower is None else lower
+                upper = UNBOUNDED if upper is None else upper
+                self.unlimited.append((f"{name} (range)", limit_element if limit_element
+                                       is not None else element))
+            if effort is None or velocity is None:
+                self.unlimited.append((name, limit_element if limit_element is not None
+                                       else element))
+            attrs = {"effort": fmt(UNBOUNDED if effort is None else effort),
+                     "velocity": fmt(UNBOUNDED if velocity is None else velocity)}
+            if kind != "continuous":
+                attrs = {"lower": fmt(lower), "upper": fmt(upper), **attrs}
+            self.sub(j, "limit", limit_element if limit_element is not None else element, **attrs)
+        if axis is not None:
+            self.dynamics(j, joint, axis)
+        self.mimic(j, joint, axis, mimic)
+
+    def dynamics(self, urdf_joint, joint: JointInfo, axis) -> None:
+        dynamics = axis.find("dynamics")
+        if dynamics is None:
+            return
+        damping = self.reader.number(dynamics, "damping", 0.0)
+        friction = self.reader.number(dynamics, "friction", 0.0)
+        if dynamics.find("damping") is not None or dynamics.find("friction") is not None:
+            self.sub(urdf_joint, "dynamics", dynamics, damping=fmt(damping),
+                     friction=fmt(friction))
+        stiffness = self.reader.number(dynamics, "spring_stiffness", 0.0)
+        if stiffness:
+            self.report("sdf.not-in-urdf",
+                        f"joint '{joint.entity.name}' has a spring (stiffness {stiffness:g}, "
+                        f"reference {self.reader.number(dynamics, 'spring_reference', 0.0):g}); "
+                        "URDF has no joint springs: dropped", dynamics.find("spring_stiffness"),
+                        severity="warning", hint="model the spring in a controller or plugin")
+
+    def mimic(self, urdf_joint, joint: JointInfo, axis, mimic) -> None:
+        if mimic is not None:
+            leader, multiplier, offset = mimic
+            self.sub(urdf_joint, "mimic", joint.entity.element, joint=leader,
+                     multiplier=fmt(multiplier), offset=fmt(offset))
+            return
+        if joint.mimic_of is not None:
+            leader_key, multiplier = joint.mimic_of
+            self.sub(urdf_joint, "mimic", joint.entity.element,
+                     joint=self.joint_name(leader_key), multiplier=fmt(multiplier),
+                     offset=fmt(0.0))
+            return
+        element = axis.find("mimic") if axis is not None else None
+        if element is None:
+            return
+        if joint.entity.scope.version < (1, 11):
+            self.report("sdf.version-feature", "axis/mimic needs SDFormat 1.11; ignored",
+                        element, hint='write <sdf version="1.11">')
+            return
+        leader = (element.get("joint") or "").strip()
+        key = self.graph.reference(joint.entity.scope, leader, element, "mimic joint")
+        if key is None:
+            return
+        multiplier = self.reader.number(element, "multiplier", 1.0)
+        offset = self.reader.number(element, "offset", 0.0)
+        reference = self.reader.number(element, "reference", 0.0)
+        suffix = "__axis2" if (element.get("axis") or "axis") == "axis2" else ""
+        # SDF: follower = m (leader - reference) + offset; URDF: follower = m leader + offset
+        self.sub(urdf_joint, "mimic", element, joint=self.joint_name(key, suffix),
+                 multiplier=fmt(multiplier), offset=fmt(offset - multiplier * reference))
+
+    def attach_roots(self, kept: list[JointInfo]) -> None:
+        """URDF has one root: links no joint reaches hang on the main root."""
+        children = {j.child for j in kept}
+        roots = [e for e in self.links if e.key not in children]
+        if not roots:
+            return
+        uses_world = any(j.parent == WORLD for j in kept)
+        canonical = self.graph.canonical_link(self.top)
+        main = canonical
+        while main in self.parent_of:
+            main = self.parent_of[main]
+        if uses_world:
+            main = WORLD
+        if main is None:
+            main = roots[0].key
+        main_name = self.link_name(main)
+        for entity in roots:
+            if entity.key == main:
+                continue
+            name = self.names[entity.key]
+            kind = "fixed" if self.top.static else "floating"
+            joint = self.sub(self.root, "joint", entity.element,
+                             name=self.joint_name(entity.key, "__" + kind), type=kind)
+            self.origin(joint, self.frame_of[name].seen_from(self.frame_of[main_name]),
+                        entity.pose_element)
+            self.sub(joint, "parent", entity.element, link=main_name)
+            self.sub(joint, "child", entity.element, link=name)
+            if kind == "floating":
+                self.report("sdf.disconnected-link",
+                            f"link '{entity.key}' is joined to no other link (a free body in "
+                            f"SDF); URDF has one root: joined to '{main_name}' by the floating "
+                            f"joint '{joint.get('name')}'", entity.element,
+                            hint="add the joint that holds it, or put it in its own model")
+
+    # -- links ------------------------------------------------------------------------------
+
+    def emit_link(self, entity: Entity, parent_joint: JointInfo | None) -> None:
+        name = self.names[entity.key]
+        link = self.sub(self.root, "link", entity.element, name=name)
+        frame = self.frame_of[name]
+        scope, element = entity.scope, entity.element
+        self.inertial(link, entity, self.graph.pose(entity.key).seen_from(frame))
+        for tag in ("visual", "collision"):
+            for shape in element.findall(tag):
+                self.shape(link, entity, shape,
+                           self.placed(scope, entity.key, shape).seen_from(frame))
+        self.link_extras(entity, name, frame)
+
+    def inertial(self, link, entity: Entity, link_pose: Transform) -> None:
+        inertial = entity.element.find("inertial")
+        if inertial is None:
+            self.report("sdf.default-inertial",
+                        f"link '{entity.key}' has no <inertial>: SDFormat gives it mass 1 and "
+                        "inertia diag(1, 1, 1), written out explicitly", entity.element,
+                        hint="give the link its real <inertial>")
+            out = self.sub(link, "inertial", entity.element)
+            self.origin(out, link_pose, None)
+            self.sub(out, "mass", entity.element, value=fmt(1.0))
+            self.sub(out, "inertia", entity.element, ixx="1.0", ixy="0.0", ixz="0.0",
+                     iyy="1.0", iyz="0.0", izz="1.0")
+            return
+        version = entity.scope.version
+        raw, pose_element, relative_to = self.reader.pose(inertial, version)
+        if relative_to:
+            key = self.graph.reference(entity.scope, relative_to, pose_element, "relative_to")
+            base = self.graph.pose(key).seen_from(self.frame_of[self.names[entity.key]]) \
+                if key else link_pose
+        else:
+            base = link_pose
+        if (inertial.get("auto") or "").strip().lower() in ("true", "1"):
+            self.report("sdf.not-in-urdf",
+                        f"link '{entity.key}': <inertial auto=\"true\"> asks the simulator to "
+                        "compute mass and inertia from the collisions; URDF has no such thing: "
+                        "the values written in the file (or the defaults) are used",
+                        inertial, severity="warning",
+                        hint="run 'urdftool inertia' on the result and paste its <inertial>")
+        out = self.sub(link, "inertial", inertial)
+        self.origin(out, base * raw, pose_element if pose_element is not None else inertial)
+        mass = self.reader.number(inertial, "mass", 1.0)
+        mass_element = inertial.find("mass")
+        self.sub(out, "mass", mass_element if mass_element is not None else inertial,
+                 value=fmt(mass))
+        inertia = inertial.find("inertia")
+        values = {}
+        for tag, default in (("ixx", 1.0), ("ixy", 0.0), ("ixz", 0.0), ("iyy", 1.0),
+                             ("iyz", 0.0), ("izz", 1.0)):
+            values[tag] = fmt(self.reader.number(inertia, tag, default)
+                              if inertia is not None else default)
+        self.sub(out, "inertia", inertia if inertia is not None else inertial, **values)
+
+    def shape(self, link, entity: Entity, element, pose: Transform) -> None:
+        tag = element.tag
+        name = element.get("name")
+        geometry = element.find("geometry")
+        shape = next((c for c in geometry if isinstance(c.tag, str)), None) \
+            if geometry is not None else None
+        if shape is None:
+            self.report("sdf.missing-element", f"{tag} '{name}' of link '{entity.key}' has no "
+                        "geometry", geometry if geometry is not None else element,
+                        hint="write <geometry><box><size>...</size></box></geometry>")
+            return
+        kind = shape.tag
+        where = f"{tag} '{name}' of link '{entity.key}'"
+        parts: list[tuple[Transform, str, dict]] = []
+        if kind == "box":
+            parts.append((pose, "box", {"size": fmtv(self.reader.vector(
+                shape, "size", 3, (1.0, 1.0, 1.0)))}))
+        elif kind == "sphere":
+            parts.append((pose, "sphere", {"radius": fmt(self.reader.number(shape, "radius", 1.0))}))
+        elif kind == "cylinder":
+            parts.append((pose, "cylinder", {
+                "radius": fmt(self.reader.number(shape, "radius", 1.0)),
+                "length": fmt(self.reader.number(shape, "length", 1.0))}))
+        elif kind == "capsule":
+            radius = self.reader.number(shape, "radius", 0.5)
+            length = self.reader.number(shape, "length", 1.0)
+            parts.append((pose, "cylinder", {"radius": fmt(radius), "length": fmt(length)}))
+            for sign in (1.0, -1.0):
+                cap = pose * Transform.from_rpy((0.0, 0.0, sign * length / 2), (0.0, 0.0, 0.0))
+                parts.append((cap, "sphere", {"radius": fmt(radius)}))
+            self.report("sdf.unsupported-geometry",
+                        f"{where} is a capsule, which URDF has not got: written as a cylinder "
+                        "and two spheres (the same solid)", shape, severity="info")
+        elif kind in ("ellipsoid", "cone"):
+            if kind == "ellipsoid":
+                radii = self.reader.vector(shape, "radii", 3, (1.0, 1.0, 1.0))
+                parts.append((pose, "sphere", {"radius": fmt(max(radii))}))
+                what = f"a sphere of radius {max(radii):g} that encloses it"
+            else:
+                radius = self.reader.number(shape, "radius", 1.0)
+                length = self.reader.number(shape, "length", 1.0)
+                parts.append((pose, "cylinder", {"radius": fmt(radius), "length": fmt(length)}))
+                what = "the cylinder that encloses it"
+            self.report("sdf.unsupported-geometry",
+                        f"{where} is a {kind}, which URDF has not got: approximated by {what}",
+                        shape, hint="replace it with a mesh for an exact shape")
+        elif kind == "mesh":
+            uri = self.reader.text_of(shape, "uri") or ""
+            if not uri:
+                self.report("sdf.missing-element", f"{where}: <mesh> has no <uri>", shape)
+                return
+            attrs = {"filename": self.mesh_filename(uri, shape)}
+            scale = self.reader.vector(shape, "scale", 3, None)
+            if scale is not None:
+                attrs["scale"] = fmtv(scale)
+            if shape.find("submesh") is not None:
+                self.report("sdf.not-in-urdf", f"{where} uses a submesh of its mesh; URDF "
+                            "takes whole meshes: the whole mesh is used", shape.find("submesh"),
+                            severity="warning", hint="export the submesh to its own file")
+            parts.append((pose, "mesh", attrs))
+        elif kind == "empty":
+            return
+        else:  # plane, heightmap, polyline, image
+            self.report("sdf.unsupported-geometry",
+                        f"{where} is a {kind}, which URDF cannot express: dropped", shape,
+                        hint="a ground plane belongs in the world, not in the robot"
+                        if kind in ("plane", "heightmap") else "replace it with a mesh")
+            return
+        for index, (part_pose, urdf_kind, attrs) in enumerate(parts):
+            part_name = name if index == 0 or name is None else f"{name}__cap{index}"
+            out = self.sub(link, tag, element, name=part_name)
+            self.origin(out, part_pose, element.find("pose"))
+            geo = self.sub(out, "geometry", geometry)
+            self.sub(geo, urdf_kind, shape, **attrs)
+            if tag == "visual":
+                self.material(out, entity, element)
+        if tag == "collision":
+            self.surface(entity, element)
+
+    def material(self, visual, entity: Entity, element) -> None:
+        material = element.find("material")
+        if material is None:
+            return
+        color_element = material.find("diffuse")
+        if color_element is None:
+            color_element = material.find("ambient")
+        script = material.find("script")
+        if color_element is None:
+            if script is not None and script.findtext("name"):
+                self.gazebo(self.names[entity.key], material,
+                            ("material", script.findtext("name").strip()))
+            return
+        values = self.reader.parse_vector(color_element, 4, None, sizes=(3,))
+        if values is None:
+            return
+        rgba = tuple(values) + ((1.0,) if len(values) == 3 else ())
+        name = self.materials.get(rgba)
+        if name is None:
+            name = "rgba_" + "_".join(fmt(v) for v in rgba)
+            self.materials[rgba] = name
+            top = etree.Element("material", name=name)
+            self.mark(top, material)
+            color = etree.SubElement(top, "color", rgba=fmtv(rgba))
+            self.mark(color, color_element)
+            self.material_elements.append(top)
+        self.sub(visual, "material", material, name=name)
+
+    def surface(self, entity: Entity, collision) -> None:
+        friction = collision.find("surface/friction/ode")
+        if friction is None:
+            return
+        name = self.names[entity.key]
+        for tag, urdf_tag in (("mu", "mu1"), ("mu2", "mu2")):
+            if friction.find(tag) is not None:
+                value = self.reader.number(friction, tag, None)
+                if value is not None:
+                    self.gazebo(name, friction.find(tag), (urdf_tag, fmt(value)), once=True)
+
+    def link_extras(self, entity: Entity, name: str, frame: Transform) -> None:
+        element = entity.element
+        if element.find("gravity") is not None and not self.reader.boolean(element, "gravity", True):
+            self.gazebo(name, element.find("gravity"), ("turnGravityOff", "true"))
+            self.report("sdf.not-in-urdf", f"link '{entity.key}' ignores gravity; URDF cannot "
+                        "say so: kept as <turnGravityOff> in a <gazebo> block (other tools "
+                        "apply gravity)", element.find("gravity"), severity="info")
+        if self.reader.boolean(element, "kinematic", False):
+            self.gazebo(name, element.find("kinematic"), ("kinematic", "true"))
+            self.report("sdf.not-in-urdf", f"link '{entity.key}' is kinematic (moved, not "
+                        "simulated); URDF cannot say so: kept in a <gazebo> block",
+                        element.find("kinematic"), severity="info")
+        if self.reader.boolean(element, "self_collide", False):
+            self.gazebo(name, element.find("self_collide"), ("selfCollide", "true"))
+        for sensor in element.findall("sensor"):
+            pose = self.placed(entity.scope, entity.key, sensor).seen_from(frame)
+            copied = copy.deepcopy(sensor)
+            for old in copied.findall("pose"):
+                copied.remove(old)
+            if not pose.is_identity:
+                new_pose = etree.Element("pose")
+                new_pose.text = fmtv(pose.xyz + pose.rpy)
+                copied.insert(0, new_pose)
+            self.gazebo(name, sensor, copied)
+            self.report("sdf.not-in-urdf", f"sensor '{sensor.get('name')}' of link "
+                        f"'{entity.key}' is kept in a <gazebo reference=\"{name}\"> block "
+                        "(Gazebo reads it; other URDF tools do not)", sensor, severity="info")
+        for tag in ("light", "projector", "audio_sink", "audio_source", "battery",
+                    "particle_emitter"):
+            for extra in element.findall(tag):
+                self.report("sdf.not-in-urdf", f"<{tag}> of link '{entity.key}' has no place "
+                            "in URDF: dropped", extra, severity="info")
+        if element.find("velocity_decay") is not None:
+            self.report("sdf.not-in-urdf", f"<velocity_decay> of link '{entity.key}' has no "
+                        "place in URDF: dropped", element.find("velocity_decay"), severity="info")
+
+    def gazebo(self, reference: str | None, sdf_element, content, once: bool = False) -> None:
+        block = None
+        for existing in self.root.findall("gazebo"):
+            if existing.get("reference") == reference:
+                block = existing
+                break
+        if block is None:
+            block = self.sub(self.root, "gazebo", sdf_element,
+                             **({"reference": reference} if reference else {}))
+        if isinstance(content, tuple):
+            tag, text = content
+            if once and block.find(tag) is not None:
+                return
+            child = etree.SubElement(block, tag)
+            child.text = text
+        else:
+            child = content
+            block.append(child)
+        self.mark(child, sdf_element)
+
+    # -- frames and the model ---------------------------------------------------------------
+
+    def emit_frames(self) -> None:
+        for entity in self.frames:
+            link = self.graph.attached_link(entity.key)
+            if link is None or link == WORLD or link not in self.names:
+                continue
+            parent = self.names[link]
+            name = self.link_name(entity.key)
+            self.sub(self.root, "link", entity.element, name=name)
+            self.frame_of[name] = self.graph.pose(entity.key)
+            joint = self.sub(self.root, "joint", entity.element,
+                             name=self.joint_name(entity.key, "__frame"), type="fixed")
+            self.origin(joint, self.frame_of[name].seen_from(self.frame_of[parent]),
+                        entity.pose_element)
+            self.sub(joint, "parent", entity.element, link=parent)
+            self.sub(joint, "child", entity.element, link=name)
+
+    def emit_model_extras(self) -> None:
+        if self.top.static:
+            self.gazebo(None, self.top.element.find("static"), ("static", "true"))
+            self.report("sdf.not-in-urdf", f"model '{self.top.name}' is static (fixed in the "
+                        "world); kept as <static> in a <gazebo> block",
+                        self.top.element.find("static"), severity="info")
+        for scope in self.top.walk():
+            for plugin in scope.plugins:
+                self.gazebo(None, plugin, copy.deepcopy(plugin))
+                self.report("sdf.not-in-urdf", f"plugin '{plugin.get('name')}' is kept in a "
+                            "<gazebo> block (Gazebo runs it; other URDF tools do not)", plugin,
+                            severity="info")
+
+    def report_unlimited(self) -> None:
+        if not self.unlimited:
+            return
+        names = sorted({name for name, _ in self.unlimited})
+        self.report("sdf.not-in-urdf",
+                    f"{len(names)} joint limit(s) are unlimited in SDF ({', '.join(names)}); "
+                    f"URDF requires a number: wrote {UNBOUNDED:g} (SDF's own 'no limit')",
+                    self.unlimited[0][1], severity="info",
+                    hint="write the real effort and velocity limits in <axis><limit>")
+
+    def add_name_comment(self) -> None:
+        lines = []
+        for key, name in self.names.items():
+            if key != name:
+                lines.append(f"  link '{key}' -> '{name}'")
+        for key, name in self.joint_names.items():
+            if key != name and "::" in key:
+                lines.append(f"  joint '{key}' -> '{name}'")
+        if lines:
+            comment = etree.Comment(" SDF names made URDF-safe:\n" + "\n".join(lines) + "\n")
+            self.root.insert(0, comment)
+
+    # -- meshes -----------------------------------------------------------------------------
+
+    def mesh_filename(self, uri: str, element) -> str:
+        doc = self.reader.doc_of(element)
+        base = doc.directory if doc is not None else Path.cwd()
+        if uri.startswith("package://"):
+            return uri
+        if uri.startswith("model://"):
+            rest = uri[len("model://"):]
+            model, _, inner = rest.partition("/")
+            general = None
+            for mapping in self.options.package_uris:
+                name, sep, prefix = mapping.partition("=")
+                if sep and name == model:
+                    return prefix.rstrip("/") + "/" + inner
+                if not sep:
+                    general = mapping
+            if general is not None:
+                return general.rstrip("/") + "/" + rest
+            found = self.reader.resolve_uri(uri, base)
+            if found is None:
+                self.report("sdf.mesh-uri", f"mesh '{uri}' is not found in the model paths; "
+                            "URDF tools do not read model:// URIs: kept as written", element,
+                            hint="give --model-path DIR, or --package-uri package://PKG/models")
+                return uri
+            return self._relative(found)
+        if uri.startswith(("http://", "https://")):
+            self.report("sdf.mesh-uri", f"mesh '{uri}' is on the network; URDF tools read "
+                        "local files and package:// URIs: kept as written", element,
+                        hint="download it next to the model and use a relative path")
+            return uri
+        uri = uri.removeprefix("file://")
+        path = Path(uri) if os.path.isabs(uri) else base / uri
+        return self._relative(path)
+
+    def _relative(self, path: Path) -> str:
+        target = self.options.output_dir
+        if target is None:
+            return str(path)
+        try:
+            return os.path.relpath(path.resolve() if path.exists() else path, target.resolve())
+        except ValueError:
+            return str(path)
+
+
+def to_text(root) -> str:
+    """The URDF document as text, indented, with an XML declaration."""
+    tree = copy.deepcopy(root)
+    etree.indent(tree, space="  ")
+    body = etree.tostring(tree, encoding="unicode")
+    return '<?xml version="1.0" encoding="utf-8"?>\n' + body + "\n"
