@@ -37,6 +37,8 @@ _ENCODING_DECL_RE = re.compile(r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2")
 class LoadOptions:
     packages: dict[str, str] = field(default_factory=dict)  # -P NAME=DIR
     xacro_args: dict[str, str] = field(default_factory=dict)  # NAME:=VALUE
+    sdf_model: str | None = None  # SDF input: the model to convert (--model)
+    sdf_model_paths: list[str] = field(default_factory=list)  # SDF: model:// search (--model-path)
 
 
 @dataclass

@@ -20,8 +20,13 @@ from urdftool.cli import format_option, load_options, package_option, split_args
               help="Skip these rules or families (repeatable, or comma-separated).")
 @click.option("--fix", is_flag=True, help="Write the repaired XML (needs -o).")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Where --fix writes.")
+@click.option("--model", "sdf_model", metavar="NAME",
+              help="SDF input: the model of a world to check (default: the first).")
+@click.option("--model-path", "model_paths", multiple=True, metavar="DIR",
+              help="SDF input: where model:// includes and meshes are found. Repeatable.")
 @click.pass_context
-def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output):
+def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, sdf_model,
+            model_paths):
     """Lint robot descriptions (*.urdf, *.xacro, *.urdf.xacro, *.sdf); all findings in one pass.
 
     Exit code 0: no errors (with --strict: no warnings either); 1: findings; 2: could not check.
@@ -40,6 +45,8 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output):
 
     options = CheckOptions(load_options(packages, xacro_args), split(select), split(ignore),
                            config, ctx.obj.get("debug", False))
+    options.load.sdf_model = sdf_model
+    options.load.sdf_model_paths = list(model_paths)
     if fix:
         from urdftool.fix import write_fixed
 
