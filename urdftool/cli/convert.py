@@ -1,14 +1,106 @@
-"""`urdftool convert`: placeholder until its issue lands."""
+"""`urdftool convert MODEL.sdf [-o OUT.urdf] [--model NAME]`: SDFormat to URDF."""
 
 from __future__ import annotations
 
 import click
 
+from urdftool.cli import load_options, package_option, split_args
 
-@click.command("convert", context_settings={"ignore_unknown_options": True})
-@click.argument("args", nargs=-1)
-def command(args):
-    """Not implemented yet."""
+
+@click.command("convert")
+@click.argument("inputs", nargs=-1, required=True, metavar="MODEL.sdf")
+@click.option("-o", "--output", type=click.Path(dir_okay=False),
+              help="Write the URDF here, not to stdout (never over the input).")
+@click.option("--model", "model", metavar="NAME",
+              help="The model to convert, when the file (a world) has several.")
+@click.option("--model-path", "model_paths", multiple=True, metavar="DIR",
+              help="Where model:// includes and meshes are found (also GZ_SIM_RESOURCE_PATH, "
+                   "IGN_GAZEBO_RESOURCE_PATH, GAZEBO_MODEL_PATH). Repeatable.")
+@click.option("--package-uri", "package_uris", multiple=True, metavar="[MODEL=]URI",
+              help="Rewrite model://MODEL/... meshes to URI/... (e.g. package://my_robot/models;"
+                   " without MODEL=, model://M/... becomes URI/M/...). Repeatable.")
+@click.option("--no-cut", is_flag=True,
+              help="Refuse a model with a kinematic loop instead of cutting one joint.")
+@click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text",
+              show_default=True, help="text: the URDF; json: the URDF and the diagnostics.")
+@package_option
+@click.pass_context
+def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, packages):
+    """Convert an SDFormat model (1.4 to 1.11) to URDF.
+
+    Frames are resolved through the SDF pose graph; what URDF cannot express is said on stderr
+    (the sdf rules) and written in its nearest safe form. Exit code 0: converted; 1: converted
+    with errors in the SDF, or refused (--no-cut and a loop); 2: could not convert.
+    """
+    import json
+    from pathlib import Path
+
     from urdftool.errors import ToolError
+    from urdftool.output import write_output
+    from urdftool.report import SEVERITIES
+    from urdftool.rules import load_all
+    from urdftool.sdf import ConvertOptions, LoopRefused, ModelChoiceError, convert_source, to_text
+    from urdftool.source import Source, detect_kind, read_text
 
-    raise ToolError("'convert' is not implemented yet")
+    paths, _ = split_args(inputs)
+    if len(paths) != 1:
+        raise ToolError("convert takes exactly one MODEL.sdf")
+    path = Path(paths[0])
+    if not path.exists():
+        raise ToolError(f"{path}: no such file")
+    text = read_text(path)
+    if detect_kind(path, text) != "sdf":
+        raise ToolError(f"{path}: not an SDFormat file (no <sdf> element)")
+    from urdftool.packages import PackageResolver
+
+    source = Source(str(path), "sdf", texts={str(path): text},
+                    resolver=PackageResolver(load_options(packages, {}).packages, path))
+    output_dir = Path(output).resolve().parent if output and output != "-" else path.resolve().parent
+    options = ConvertOptions(model=model, model_paths=list(model_paths),
+                             package_uris=list(package_uris), output_dir=output_dir,
+                             cut_loops=not no_cut, require_choice=True)
+    refused = None
+    try:
+        convert_source(source, path, text, options)
+    except ModelChoiceError as exc:
+        raise ToolError(f"{path}: {exc}") from None
+    except LoopRefused as exc:
+        refused = str(exc)
+    registry = load_all()
+    problems = []
+    for rule_id, finding in source.problems:
+        rule = registry.get(rule_id)
+        severity = finding.severity or (rule.severity if rule else "error")
+        problems.append((rule_id, severity if severity in SEVERITIES else "error", finding))
+    if refused:
+        problems.append(("sdf.kinematic-loop", "error", None))
+    errors = [p for p in problems if p[1] == "error"]
+    urdf = None
+    if source.root is not None and refused is None:
+        header = (f" Converted by urdftool from {path.name}"
+                  + (f", model '{model}'" if model else "") + ". ")
+        from lxml import etree
+
+        source.root.insert(0, etree.Comment(header))
+        urdf = to_text(source.root)
+    if fmt == "json":
+        click.echo(json.dumps({
+            "path": str(path), "urdf": urdf, "refused": refused,
+            "diagnostics": [{"rule": r, "severity": s, "message": f.message if f else refused,
+                             "path": f.loc.path if f and f.loc else str(path),
+                             "line": f.loc.line if f and f.loc else None,
+                             "column": f.loc.column if f and f.loc else None,
+                             "hint": f.hint if f else None} for r, s, f in problems]},
+            indent=2))
+    else:
+        for rule_id, severity, finding in problems:
+            if finding is None:
+                click.echo(f"{path}: error: {refused} [{rule_id}]", err=True)
+                continue
+            loc = finding.loc
+            where = f"{loc.path}:{loc.line}: " if loc and loc.line else f"{path}: "
+            hint = f" (fix: {finding.hint})" if finding.hint else ""
+            click.echo(f"{where}{severity}: {finding.message}{hint} [{rule_id}]", err=True)
+        if urdf is not None:
+            write_output(urdf, output, inputs=[str(path)])
+    ctx.exit(1 if errors or urdf is None else 0)
