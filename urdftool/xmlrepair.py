@@ -50,7 +50,9 @@ _TAGLIKE_RE = re.compile(
     r"""(?P<attrs>(?:\s+[^\W\d][-\w.:]*\s*=\s*(?:"[^"<]*"|'[^'<]*'))*)"""
     r"""\s*(?P<close>/?>)[ \t]*(?=\r?\n|$)""", re.MULTILINE)
 # Fast-path filter for _TAGLIKE_RE in a well-formed file (a superset: what it finds is confirmed
-# by the scanner). Continuation lines of multi-line tags start with 'attr=' and do not match.
+# by the scanner): lines with a '>' and no '<' (cheap), then a closer look at their start.
+# Continuation lines of multi-line tags start with 'attr=' and do not pass the closer look.
+_GT_LINE_RE = re.compile(r"\n[^<\n]*>")
 _TAGLIKE_HINT_RE = re.compile(
     r"""\n[ \t]*(?:[^\s<>"'=/&]+[ \t]+[^\W\d][-\w.:]*[ \t]*=[ \t]*["']|/?[^\W\d][-\w.:]*[ \t]*/?>)""")
 
@@ -951,6 +953,16 @@ def _qualified(element) -> str:
     return f"{element.prefix}:{local}" if element.prefix else local
 
 
+def _may_hold_taglike_text(text: str) -> bool:
+    """Whether a well-formed text may hold a line that reads as a tag without its '<'. Every
+    '<' of well-formed XML opens markup closed by one '>'; only text, attribute values, comments
+    and CDATA can add a '>'. So equal counts (two passes in C) rule it out for nearly every file;
+    the line regex runs only on the rest."""
+    if text.count(">") <= text.count("<"):
+        return False
+    return any(_TAGLIKE_HINT_RE.match(text, line.start()) for line in _GT_LINE_RE.finditer(text))
+
+
 def repair(text: str, path: str) -> tuple[str, list[tuple[str, Finding]]]:
     """Repair recognised breakages; report each one, plus whatever the parser still rejects."""
     problems: list[tuple[str, Finding]] = []
@@ -964,7 +976,7 @@ def repair(text: str, path: str) -> tuple[str, list[tuple[str, Finding]]]:
 def _repair(text: str, path: str, problems: list) -> tuple[str, list]:
     text = _fix_declaration(text, path, problems)
     root, error = _strict_parse(text)
-    if error is None and not _TAGLIKE_HINT_RE.search(text):
+    if error is None and not _may_hold_taglike_text(text):
         return text, problems  # fast path: well-formed, nothing looks like a broken tag
     if not text.strip():
         problems.append(("xml.no-root", Finding("the file is empty", Loc(path, 1, 1),
@@ -979,7 +991,7 @@ def _repair(text: str, path: str, problems: list) -> tuple[str, list]:
         root, error = _strict_parse(text)
     scanned = False
     for _ in range(MAX_ROUNDS):
-        if error is None and (scanned or not _TAGLIKE_HINT_RE.search(text)):
+        if error is None and (scanned or not _may_hold_taglike_text(text)):
             break
         budget = MAX_REPAIRS - len(found)
         if budget <= 0:
