@@ -113,7 +113,8 @@ class Builder:
 
     def link_name(self, key: str) -> str:
         if key not in self.names:
-            self.names[key] = self._unique(key.replace("::", "__"), self._used_links)
+            wanted = "world" if key == WORLD else key.replace("::", "__")
+            self.names[key] = self._unique(wanted, self._used_links)
         return self.names[key]
 
     def joint_name(self, key: str, suffix: str = "") -> str:
@@ -211,7 +212,7 @@ class Builder:
                             child if child is not None else element,
                             hint=f"write <{tag}>LINK</{tag}>")
                 return None
-            if name == WORLD and entity.scope.prefix + WORLD not in self.graph.nodes:
+            if name == "world" and entity.scope.prefix + "world" not in self.graph.nodes:
                 if tag == "child":
                     self.report("sdf.bad-value", f"joint '{entity.name}': the child cannot be "
                                 "'world'", child, hint="swap parent and child")

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from urdftool.sdf.reader import Entity, Reader, Scope
 from urdftool.sdf.transforms import IDENTITY, Transform
 
-WORLD = "world"
+WORLD = "<world>"  # the world frame (never a name: a link may be called "world")
 
 
 @dataclass
@@ -58,7 +58,7 @@ class PoseGraph:
         """The node key that ``name``, written in ``scope``, refers to (None if none)."""
         if name == "__model__":
             return scope.frame_key
-        if name == WORLD and scope.prefix + WORLD not in self.nodes:
+        if name == "world" and scope.prefix + "world" not in self.nodes:
             return WORLD
         name = name.removesuffix("::__model__")
         key = scope.prefix + name
