@@ -1,14 +1,115 @@
-"""`urdftool limits`: placeholder until its issue lands."""
+"""`urdftool limits FILE`: the joint-limit and mimic table (``urdftool.limits`` computes it)."""
 
 from __future__ import annotations
 
+import json
+
 import click
 
+from urdftool.cli import format_option, load_robot, package_option, split_args, stdout_console
 
-@click.command("limits", context_settings={"ignore_unknown_options": True})
-@click.argument("args", nargs=-1)
-def command(args):
-    """Not implemented yet."""
+
+def _num(value: float | None, digits: int = 6) -> str:
+    if value is None:
+        return "-"
+    return f"{value:.{digits}g}"
+
+
+def _range(row: dict) -> str:
+    if row["range"] is None:
+        return "unlimited" if row["type"] == "continuous" else "-"
+    if row["unit"] == "rad":
+        return f"{row['range']:.4g} rad ({row['range_degrees']:.0f}°)"
+    return f"{row['range']:.4g} {row['unit']}".strip()
+
+
+def _image(mimic: dict | None) -> str:
+    if mimic is None or mimic.get("image") is None:
+        return "-"
+    lo, hi = mimic["image"]
+    return f"[{_num(lo, 5)}, {_num(hi, 5)}]"
+
+
+_STYLE = {"error": "bold red", "warning": "yellow", "info": "cyan", "ok": "green"}
+_ORDER = ("error", "warning", "info")
+
+
+def _sorted(findings: list[dict]) -> list[dict]:
+    return sorted(findings, key=lambda f: _ORDER.index(f["severity"]))
+
+
+def _verdict(row: dict) -> str:
+    if not row["findings"]:
+        return "[green]ok[/]"
+    return "\n".join(f"[{_STYLE[f['severity']]}]{f['severity']}[/] {f['rule']}"
+                     for f in _sorted(row["findings"]))
+
+
+_NO_WRAP = {"type", "lower", "upper", "range", "effort", "velocity", "multiplier", "offset",
+            "image of leader range", "verdict"}
+
+
+@click.command("limits")
+@click.argument("inputs", nargs=-1, required=True, metavar="FILE [NAME:=VALUE...]")
+@format_option("text", "json")
+@package_option
+def command(inputs, fmt, packages):
+    """Joint-limit and mimic table: ranges, efforts, velocities, mimic images, verdicts.
+
+    Exit code 1 when a joint or mimic check finds an error (e.g. a mimic follower driven
+    outside its limits), 0 otherwise, 2 when the file cannot be read.
+    """
     from urdftool.errors import ToolError
+    from urdftool.limits import limits_data
 
-    raise ToolError("'limits' is not implemented yet")
+    paths, xacro_args = split_args(inputs)
+    if len(paths) != 1:
+        raise ToolError("limits takes exactly one FILE")
+    robot = load_robot(paths[0], packages, xacro_args)
+    data = limits_data(robot)
+    failed = data["summary"]["errors"] > 0
+    if fmt == "json":
+        click.echo(json.dumps(data, indent=2, allow_nan=False))
+    else:
+        _print_table(robot, data)
+    if failed:
+        raise click.exceptions.Exit(1)
+
+
+def _print_table(robot, data: dict) -> None:
+    from rich.markup import escape
+    from rich.table import Table
+
+    console = stdout_console()
+    if not console.is_terminal:
+        console.width = 200  # a file or a pipe: keep rows on one line
+    table = Table(title=f"[bold]{escape(str(data['robot']))}[/]: {len(data['joints'])} moving "
+                        "joint(s)", title_justify="left")
+    for name, justify in (("joint", "left"), ("type", "left"), ("lower", "right"),
+                          ("upper", "right"), ("range", "right"), ("effort", "right"),
+                          ("velocity", "right"), ("mimics", "left"), ("multiplier", "right"),
+                          ("offset", "right"), ("image of leader range", "right"),
+                          ("verdict", "left")):
+        table.add_column(name, justify=justify, overflow="fold", no_wrap=name in _NO_WRAP)
+    for row in data["joints"]:
+        mimic = row["mimic"]
+        table.add_row(
+            escape(str(row["name"])), row["type"] or "?", _num(row["lower"]),
+            _num(row["upper"]), _range(row), _num(row["effort"]), _num(row["velocity"]),
+            escape(str(mimic["joint"])) if mimic else "-",
+            _num(mimic["multiplier"]) if mimic else "-",
+            _num(mimic["offset"], 10) if mimic else "-",
+            _image(mimic), _verdict(row))
+    console.print(table)
+    for row in data["joints"]:
+        for finding in _sorted(row["findings"]):
+            where = f"{row['path']}:{row['line']}" if row["line"] else str(row["path"])
+            console.print(f"[bold]{escape(where)}[/] {escape(str(row['name']))}: "
+                          f"[{_STYLE[finding['severity']]}]{finding['severity']}[/] "
+                          f"[dim]{finding['rule']}[/] {escape(finding['message'])}")
+            if finding["hint"]:
+                console.print(f"    [green]fix:[/] {escape(finding['hint'])}")
+    summary = data["summary"]
+    colour = "red" if summary["errors"] else ("yellow" if summary["warnings"] else "green")
+    console.print(f"[{colour}]{summary['joints']} joint(s): {summary['errors']} error(s), "
+                  f"{summary['warnings']} warning(s), {summary['infos']} info[/]")

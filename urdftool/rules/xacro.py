@@ -1,17 +1,342 @@
 """Rules of the `xacro` family: what xacro reports while expanding, located in the .xacro
-source, and old-style xacro usage that modern xacro silently ignores."""
+source, and old-style xacro usage that modern xacro silently ignores.
+
+Expansion errors are recorded while loading (``urdftool.xacro_expand`` files them under
+``xacro.error``); the rule here says what went wrong — undefined property, undefined ``$(arg)``,
+undefined macro, bad expression, missing include or package, wrong macro parameters — and how
+to fix it. One rule id for all of them: any of them stops the expansion.
+
+Old xacro (ROS Fuerte and earlier) accepted ``<property>``, ``<include>``, ``<macro>`` and macro
+calls like ``<smartcar_body/>`` without the ``xacro:`` prefix. xacro 2 copies such elements
+through unchanged: nothing is included, no property defined, no macro expanded, and the robot
+can come out empty. They survive in the expanded tree, located in the .xacro file.
+"""
 
 from __future__ import annotations
 
-from urdftool.rules import source_rule
+import difflib
+import re
+from pathlib import Path
 
-source_rule(
-    "xacro.error", "error", "xacro cannot expand the file",
-    doc="""xacro stopped: an undefined property or macro, a bad expression, a missing include,
-    wrong macro parameters. Nothing after this point was expanded, so the robot is checked
-    incompletely until this is fixed.""",
-    bad='<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
-        '  <link name="${base}"/>\n</robot>',
-    good='<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
-         '  <xacro:property name="base" value="base_link"/>\n  <link name="${base}"/>\n</robot>',
-)
+from urdftool.model import Robot
+from urdftool.report import Finding
+from urdftool.rules import rule
+
+XACRO_NS = "http://www.ros.org/wiki/xacro"
+_HEAD = f'<robot xmlns:xacro="{XACRO_NS}" name="r">\n'
+
+# -- expansion errors --------------------------------------------------------------------------
+
+_PATTERNS: list[tuple[str, re.Pattern]] = [
+    ("unknown-package", re.compile(r"package '(?P<name>[^']+)' not found")),
+    ("missing-include", re.compile(
+        r"cannot include|cannot read|No such file or directory|matched no files|"
+        r"Include tag's filename spec")),
+    ("undefined-arg", re.compile(r"Undefined substitution argument\s*(?P<name>\S+)?")),
+    ("undefined-macro", re.compile(r"unknown macro name:?\s*(?:xacro:)?(?P<name>\S+)")),
+    ("macro-parameters", re.compile(
+        r"Undefined parameters|Invalid parameter|Not enough blocks|Unused block|"
+        r"Undefined block|were not set for macro|Undefined property to forward")),
+    ("undefined-property", re.compile(r"name '(?P<name>[^']+)' is not defined")),
+    ("bad-expression", re.compile(
+        r"when evaluating expression|invalid expression|not a boolean expression|"
+        r"Use of invalid name|circular variable definition|invalid syntax")),
+]
+
+_EXPRESSION = re.compile(r"when evaluating expression '(?P<expr>.*)'", re.DOTALL)
+
+
+def _defined_names(robot: Robot, kind: str) -> list[str]:
+    """Names of xacro properties/args/macros defined in every file read for this robot."""
+    pattern = re.compile(rf"<(?:xacro:)?{kind}\b[^>]*?\bname\s*=\s*[\"']([^\"'$]+)[\"']")
+    names: set[str] = set()
+    for text in robot.source.texts.values():
+        names.update(pattern.findall(text))
+    return sorted(names)
+
+
+def _did_you_mean(name: str | None, candidates: list[str]) -> str:
+    if not name:
+        return ""
+    close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
+    return f"did you mean '{close[0]}'? " if close else ""
+
+
+def classify(message: str, robot: Robot | None = None) -> tuple[str, str, str | None]:
+    """(kind, message, hint) for a xacro error message as recorded while loading; kind is one
+    of the _PATTERNS names, or "other" (message unchanged, no hint)."""
+    text = message.removeprefix("xacro:").strip()
+    expression = _EXPRESSION.search(text)
+    expr = expression.group("expr").strip() if expression else None
+    head = _EXPRESSION.sub("", text).strip().rstrip(".")
+    for kind, pattern in _PATTERNS:
+        match = pattern.search(text)
+        if match is None:
+            continue
+        name = match.groupdict().get("name")
+        if kind == "undefined-property":
+            known = _defined_names(robot, "property") if robot else []
+            where = f" in ${{{expr}}}" if expr and expr != name else ""
+            if name in known:
+                return (kind, f"xacro: property '{name}' is used{where} before it is defined",
+                        ("xacro reads top to bottom: move its <xacro:property> above the first "
+                        "use (or it is a macro parameter used outside its macro)"))
+            return (kind, f"xacro: undefined property '{name}'{where}",
+                    (f"{_did_you_mean(name, known)}define it first: "
+                     f'<xacro:property name="{name}" value="..."/> (or pass it as an argument)'))
+        if kind == "undefined-arg":
+            known = _defined_names(robot, "arg") if robot else []
+            return (kind, f"xacro: $(arg {name}) is used but the argument is not defined",
+                    (f"{_did_you_mean(name, known)}declare it: "
+                    f'<xacro:arg name="{name}" default="..."/>, or pass {name}:=VALUE'))
+        if kind == "undefined-macro":
+            known = _defined_names(robot, "macro") if robot else []
+            return (kind, f"xacro: macro '{name}' is called but never defined",
+                    (f"{_did_you_mean(name, known)}define it with <xacro:macro name=\"{name}\" "
+                    "params=\"...\">, or include the file that does"))
+        if kind == "unknown-package":
+            return (kind, f"xacro: $(find {name}): package '{name}' not found",
+                    f"give it with -P {name}=DIR, or set ROS_PACKAGE_PATH / AMENT_PREFIX_PATH")
+        if kind == "missing-include":
+            return (kind, f"xacro: {head}",
+                    ("check the filename (relative paths are relative to the including file), "
+                    "or use $(find PACKAGE)/path"))
+        if kind == "macro-parameters":
+            return (kind, f"xacro: {head}",
+                    ("pass exactly the macro's params (name=\"value\" attributes, and one child "
+                    "block per *block parameter), or give defaults: params=\"x:=0\""))
+        where = f" in ${{{expr}}}" if expr else ""
+        return (kind, f"xacro: {head}{where}",
+                ("fix the expression (python syntax inside ${...}; "
+                "conditions must be true/false/1/0)"))
+    return "other", message, None
+
+
+@rule("xacro.error", "error", "xacro cannot expand the file",
+      doc="""xacro stopped: an undefined property (`${name}` before `<xacro:property>`), an
+      undefined `$(arg name)`, a call of a macro that is not defined, an expression that does not
+      evaluate (syntax, division by zero, a condition that is not true/false), an include that
+      cannot be read, a `$(find pkg)` whose package cannot be found (give it with `-P pkg=DIR`),
+      or a macro call with missing or unknown parameters. The message says which, at the line
+      where it happened (inside a macro: the macro body's line, with the call site), and the
+      hint says how to fix it. Nothing after this point was expanded, so the robot is checked
+      incompletely until this is fixed.""",
+      bad=_HEAD + '  <link name="${base}"/>\n</robot>',
+      good=_HEAD + '  <xacro:property name="base" value="base_link"/>\n  <link name="${base}"/>\n'
+                   '</robot>')
+def xacro_error(robot: Robot):
+    for finding in robot.source.problems_for("xacro.error"):
+        _kind, message, hint = classify(finding.message, robot)
+        yield Finding(message, finding.loc, hint=hint or finding.hint, severity=finding.severity)
+
+
+# -- old unprefixed xacro tags -----------------------------------------------------------------
+
+XACRO_TAGS = ("property", "include", "macro", "arg", "if", "unless", "insert_block", "call",
+              "element", "attribute")
+# elements whose contents are not URDF: Gazebo/SDF blocks, ros2_control parameters
+_FOREIGN = {"gazebo", "ros2_control", "transmission", "plugin", "sensor"}
+# every element URDF defines: a macro may share a name with one (e.g. "inertial"), but an
+# element with that name is then URDF, not a call
+URDF_ELEMENTS = {
+    "robot", "link", "joint", "material", "gazebo", "transmission", "ros2_control",
+    "inertial", "visual", "collision", "origin", "geometry", "box", "cylinder", "sphere", "mesh",
+    "capsule", "color", "texture", "mass", "inertia", "parent", "child", "axis", "limit", "mimic",
+    "dynamics", "safety_controller", "calibration", "version",
+}
+
+
+def _in_foreign_block(element) -> bool:
+    node = element.getparent()
+    while node is not None:
+        if isinstance(node.tag, str) and node.tag in _FOREIGN:
+            return True
+        node = node.getparent()
+    return False
+
+
+def _plain_tag(element) -> str | None:
+    """The tag of an element written without a namespace prefix, else None."""
+    if not isinstance(element.tag, str) or element.tag.startswith("{"):
+        return None
+    return element.tag
+
+
+def _start_tag(robot: Robot, element) -> str | None:
+    """The element's start tag as written in its source file, or None."""
+    loc = robot.loc(element)
+    text = robot.source.texts.get(loc.path)
+    if text is None or not loc.line:
+        return None
+    lines = text.splitlines()
+    if loc.line > len(lines):
+        return None
+    rest = "\n".join(lines[loc.line - 1:loc.line + 20])
+    start = rest.find("<" + element.tag, (loc.column - 1) if loc.column else 0)
+    if start < 0:
+        return None
+    end = rest.find(">", start)
+    if end < 0:
+        return None
+    return " ".join(rest[start:end + 1].split())
+
+
+def _rewrite(robot: Robot, element, tag: str) -> str:
+    written = _start_tag(robot, element)
+    if written is None:
+        attributes = " ".join(f'{k}="{v}"' for k, v in element.attrib.items())
+        written = f"<{tag}{' ' + attributes if attributes else ''}{'/' if len(element) == 0 else ''}>"
+    new = "<xacro:" + written[1:]
+    if len(element) or (element.text or "").strip():
+        new += f" ... </xacro:{tag}>"
+    return new
+
+
+def _namespace_note(robot: Robot, element) -> str:
+    """A reminder to declare the xacro namespace when the element's file does not."""
+    text = robot.source.texts.get(robot.loc(element).path)
+    if text is not None and "xmlns:xacro" not in text:
+        return f' (and declare xmlns:xacro="{XACRO_NS}" on <robot>)'
+    return ""
+
+
+_EFFECT = {
+    "property": "the property is never defined",
+    "include": "nothing is included",
+    "macro": "the macro is never defined",
+    "arg": "the argument is never declared",
+    "if": "the condition is never evaluated: its contents are copied through",
+    "unless": "the condition is never evaluated: its contents are copied through",
+    "insert_block": "the block is never inserted",
+    "call": "the macro is never called",
+    "element": "the element is never generated",
+    "attribute": "the attribute is never set",
+}
+
+
+@rule("xacro.unprefixed-tag", "warning", "an old xacro tag without the xacro: prefix",
+      doc="""xacro before ROS Groovy accepted `<property>`, `<include>`, `<macro>`, `<arg>`,
+      `<if>` and the rest without the `xacro:` prefix. Modern xacro ignores them silently and
+      copies them into the URDF: the property is never defined, the file never included, the
+      macro never defined. Write them with the prefix.""",
+      bad=_HEAD + '  <property name="width" value="0.3"/>\n  <link name="a"/>\n</robot>',
+      good=_HEAD + '  <xacro:property name="width" value="0.3"/>\n  <link name="a"/>\n</robot>')
+def unprefixed_tag(robot: Robot):
+    if robot.root is None or robot.root.tag != "robot":
+        return
+    for element in robot.root.iter():
+        tag = _plain_tag(element)
+        if tag not in XACRO_TAGS or element is robot.root or _in_foreign_block(element):
+            continue
+        if tag == "include" and _is_sdf_include(element):
+            continue
+        yield Finding(f"<{tag}> without the xacro: prefix is ignored by xacro 2 and copied into "
+                      f"the URDF: {_EFFECT[tag]}", robot.loc(element),
+                      hint=f"write {_rewrite(robot, element, tag)}"
+                           f"{_namespace_note(robot, element)}")
+
+
+def _is_sdf_include(element) -> bool:
+    """An SDF-style <include><uri>...</uri></include> (not a xacro include)."""
+    return element.get("filename") is None and any(
+        isinstance(c.tag, str) and c.tag == "uri" for c in element)
+
+
+# macro calls without the prefix ----------------------------------------------------------------
+
+_MACRO_RE = re.compile(r"<(?:xacro:)?macro\b[^>]*?\bname\s*=\s*[\"']([^\"']+)[\"']")
+_INCLUDE_RE = re.compile(r"<(?:xacro:)?include\b[^>]*?\bfilename\s*=\s*[\"']([^\"']+)[\"']")
+_FIND_RE = re.compile(r"\$\(find\s+([^)\s]+)\)")
+
+
+def _resolve(robot: Robot, spec: str, base: Path) -> Path | None:
+    """A (possibly $(find)-using) include filename, resolved like xacro would."""
+    resolver = robot.source.resolver
+
+    def find(match: re.Match) -> str:
+        directory = resolver.find(match.group(1)) if resolver is not None else None
+        if directory is None:
+            raise LookupError(match.group(1))
+        return str(directory)
+
+    if "${" in spec or "$(arg" in spec:
+        return None
+    try:
+        spec = _FIND_RE.sub(find, spec)
+    except LookupError:
+        return None
+    path = Path(spec)
+    if not path.is_absolute():
+        path = base / path
+    return path if path.is_file() else None
+
+
+def macro_names(robot: Robot) -> dict[str, str]:
+    """Macro name -> file defining it, from every file xacro read and every file an unprefixed
+    (hence never processed) <include> names, transitively."""
+    found: dict[str, str] = {}
+    texts: dict[str, str] = dict(robot.source.texts)
+    pending: list[tuple[str, str]] = list(texts.items())
+    # files named by unprefixed includes that survived expansion
+    if robot.root is not None:
+        for element in robot.root.iter("include"):
+            filename = element.get("filename")
+            if filename and not _in_foreign_block(element):
+                base = Path(robot.loc(element).path).resolve().parent
+                path = _resolve(robot, filename, base)
+                if path is not None and str(path) not in texts:
+                    try:
+                        text = path.read_text(encoding="utf-8", errors="replace")
+                    except OSError:
+                        continue
+                    texts[str(path)] = text
+                    pending.append((str(path), text))
+    while pending:
+        path, text = pending.pop()
+        for name in _MACRO_RE.findall(text):
+            found.setdefault(name, path)
+        for spec in _INCLUDE_RE.findall(text):
+            target = _resolve(robot, spec, Path(path).resolve().parent)
+            if target is None or str(target) in texts or len(texts) > 200:
+                continue
+            try:
+                included = target.read_text(encoding="utf-8", errors="replace")
+            except OSError:
+                continue
+            texts[str(target)] = included
+            pending.append((str(target), included))
+    return found
+
+
+@rule("xacro.unprefixed-macro-call", "warning", "a xacro macro called without the xacro: prefix",
+      doc="""Old xacro expanded `<wheel/>` as a call of macro `wheel`; xacro 2 only expands
+      `<xacro:wheel/>` and copies the unprefixed element into the URDF as an unknown element:
+      the macro's links and joints never appear. When nothing else defines links the robot comes
+      out empty, which every consumer refuses (error).""",
+      bad=_HEAD + '  <xacro:macro name="body"><link name="base"/></xacro:macro>\n'
+                  '  <link name="world"/>\n  <body/>\n</robot>',
+      good=_HEAD + '  <xacro:macro name="body"><link name="base"/></xacro:macro>\n'
+                   '  <link name="world"/>\n  <xacro:body/>\n</robot>')
+def unprefixed_macro_call(robot: Robot):
+    if robot.root is None or robot.root.tag != "robot":
+        return
+    candidates = [e for e in robot.root.iter()
+                  if _plain_tag(e) and e is not robot.root and _plain_tag(e) not in XACRO_TAGS
+                  and _plain_tag(e) not in URDF_ELEMENTS and not _in_foreign_block(e)]
+    if not candidates:
+        return
+    macros = macro_names(robot)
+    empty = not robot.links
+    for element in candidates:
+        tag = element.tag
+        if tag not in macros:
+            continue
+        where = Path(macros[tag]).name
+        message = (f"<{tag}> calls macro '{tag}' (defined in {where}) without the xacro: prefix; "
+                   "xacro 2 copies it through unexpanded")
+        if empty:
+            message += f", so robot '{robot.name}' comes out with no links at all"
+        yield Finding(message, robot.loc(element),
+                      hint=f"write {_rewrite(robot, element, tag)}"
+                           f"{_namespace_note(robot, element)}",
+                      severity="error" if empty else None)
