@@ -1,3 +1,264 @@
-"""Rules of the `geometry` family (see DESIGN.md for what the family covers)."""
+"""Rules of the `geometry` family: shapes of visuals and collisions.
+
+Sizes must be positive; a link's collision should roughly cover what its visual shows; a moving
+link that is seen and has mass should also collide. Pure Python (no numpy): these run on every
+``urdftool check``. Meshes are left to the `mesh` family, which loads them; here only primitive
+shapes (box, cylinder, sphere, capsule) are compared.
+"""
 
 from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+
+from urdftool.report import Finding
+from urdftool.rules import rule
+
+# -- shapes -------------------------------------------------------------------------------------
+
+
+def _rotation(rpy) -> tuple[tuple[float, float, float], ...]:
+    """URDF's fixed-axis roll, pitch, yaw: R = Rz(yaw) Ry(pitch) Rx(roll)."""
+    roll, pitch, yaw = rpy
+    cr, sr = math.cos(roll), math.sin(roll)
+    cp, sp = math.cos(pitch), math.sin(pitch)
+    cy, sy = math.cos(yaw), math.sin(yaw)
+    return ((cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr),
+            (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr),
+            (-sp, cp * sr, cp * cr))
+
+
+def _bounds(shape) -> tuple[tuple[float, ...], tuple[float, ...]] | None:
+    """Axis-aligned bounds (low, high) of a primitive shape in the link frame, or None."""
+    geometry = shape.geometry
+    kind = geometry.kind
+    rotation = _rotation(shape.origin.rpy)
+    if kind == "box" and geometry.size is not None:
+        half = [abs(s) / 2 for s in geometry.size]
+        extent = [sum(abs(rotation[i][k]) * half[k] for k in range(3)) for i in range(3)]
+    elif kind == "sphere" and geometry.radius is not None:
+        extent = [abs(geometry.radius)] * 3
+    elif kind in ("cylinder", "capsule") and geometry.radius is not None \
+            and geometry.length is not None:
+        radius, half_length = abs(geometry.radius), abs(geometry.length) / 2
+        extent = []
+        for i in range(3):
+            along = abs(rotation[i][2])  # the shape's z axis, seen along link axis i
+            across = math.sqrt(max(0.0, 1.0 - along * along))
+            if kind == "cylinder":
+                extent.append(radius * across + half_length * along)
+            else:
+                extent.append(radius + half_length * along)
+    else:
+        return None
+    if not all(math.isfinite(e) for e in extent) or not all(math.isfinite(c)
+                                                              for c in shape.origin.xyz):
+        return None
+    centre = shape.origin.xyz
+    return (tuple(centre[i] - extent[i] for i in range(3)),
+            tuple(centre[i] + extent[i] for i in range(3)))
+
+
+def _union(boxes):
+    low = tuple(min(b[0][i] for b in boxes) for i in range(3))
+    high = tuple(max(b[1][i] for b in boxes) for i in range(3))
+    return low, high
+
+
+def _size(box) -> float:
+    """The largest extent of a bounding box."""
+    return max(box[1][i] - box[0][i] for i in range(3))
+
+
+def _centre(box) -> tuple[float, ...]:
+    return tuple((box[0][i] + box[1][i]) / 2 for i in range(3))
+
+
+def _gap(a, b) -> float:
+    """Distance between two boxes (0 when they touch or overlap)."""
+    return math.sqrt(sum(max(0.0, a[0][i] - b[1][i], b[0][i] - a[1][i]) ** 2 for i in range(3)))
+
+
+def _describe(geometry) -> str:
+    if geometry.kind == "box" and geometry.size is not None:
+        return "box " + " x ".join(f"{s:g}" for s in geometry.size)
+    if geometry.kind in ("cylinder", "capsule"):
+        return f"{geometry.kind} r={geometry.radius:g} l={geometry.length:g}"
+    if geometry.kind == "sphere":
+        return f"sphere r={geometry.radius:g}"
+    return geometry.kind or "shape"
+
+
+# -- rules --------------------------------------------------------------------------------------
+
+_ROBOT = '<robot name="r">\n  <link name="base"/>\n{}\n</robot>'
+_JOINT = ('  <joint name="j" type="continuous">\n    <parent link="base"/>\n'
+          '    <child link="wheel"/>\n    <axis xyz="0 1 0"/>\n  </joint>')
+_INERTIAL = ('    <inertial>\n      <mass value="1"/>\n'
+             '      <inertia ixx="0.003" ixy="0" ixz="0" iyy="0.005" iyz="0" izz="0.003"/>\n'
+             '    </inertial>\n')
+
+
+def _wheel(visual: str, collision: str | None) -> str:
+    body = (f'  <link name="wheel">\n{_INERTIAL}    <visual>\n'
+            f'      <geometry>{visual}</geometry>\n    </visual>\n')
+    if collision is not None:
+        body += f'    <collision>\n      <geometry>{collision}</geometry>\n    </collision>\n'
+    return _ROBOT.format(body + '  </link>\n' + _JOINT)
+
+
+@rule("geometry.nonpositive-size", "error", "a shape with a zero or negative size",
+      doc="""
+Box sizes, radii and lengths must be positive, and a mesh scale must not have a zero
+component: a zero-size shape has no volume, so collision detection ignores it or divides by
+zero, and newer urdfdom versions reject it ("Box size must be positive finite values"). A
+negative mesh scale is allowed (it mirrors the mesh); a negative box size or radius is not.
+A zero-size *visual* only draws nothing (a stand-in for "no visual"): a warning, remove it.
+""",
+      bad=_ROBOT.format('  <link name="plate">\n    <collision>\n'
+                        '      <geometry><box size="0.2 0.2 0"/></geometry>\n'
+                        '    </collision>\n  </link>\n  <joint name="j" type="fixed">'
+                        '<parent link="base"/><child link="plate"/></joint>'),
+      good=_ROBOT.format('  <link name="plate">\n    <collision>\n'
+                         '      <geometry><box size="0.2 0.2 0.005"/></geometry>\n'
+                         '    </collision>\n  </link>\n  <joint name="j" type="fixed">'
+                         '<parent link="base"/><child link="plate"/></joint>'))
+def nonpositive_size(robot) -> Iterator[Finding]:
+    for link in robot.links:
+        for shape in link.shapes:
+            geometry = shape.geometry
+            where = f"link '{link.name}' {shape.role}"
+            loc = geometry.loc or shape.loc
+            values: list[tuple[str, float]] = []
+            if geometry.kind == "box" and geometry.size is not None:
+                values = [("size", s) for s in geometry.size]
+            elif geometry.kind in ("cylinder", "capsule", "sphere"):
+                names = ("radius",) if geometry.kind == "sphere" else ("radius", "length")
+                values = [(n, getattr(geometry, n)) for n in names
+                          if getattr(geometry, n) is not None]
+            bad = [(n, v) for n, v in values if v <= 0]
+            if bad:
+                if geometry.kind == "box":
+                    what = f"box size {' '.join(f'{v:g}' for _, v in values)}"
+                else:
+                    what = ", ".join(f"{geometry.kind} {n} {v:g}" for n, v in bad)
+                # A zero-size visual only draws nothing; anything else is wrong physics.
+                harmless = shape.role == "visual" and all(v == 0 for _, v in bad)
+                yield Finding(f"{where}: {what} is not positive"
+                              + (" (it draws nothing: remove the visual instead)"
+                                 if harmless else ""), loc,
+                              hint="every size must be positive", severity="warning"
+                              if harmless else None)
+            elif geometry.kind == "mesh" and any(s == 0 for s in geometry.scale):
+                scale = " ".join(f"{s:g}" for s in geometry.scale)
+                yield Finding(f"{where}: mesh scale {scale} has a zero component: the mesh is "
+                              "flattened to nothing", loc,
+                              hint='use scale="1 1 1" (or the unit factor, e.g. 0.001 for mm)')
+
+
+# The thresholds are deliberately coarse: collision shapes are often simplified, padded or
+# shrunk on purpose. Only a mismatch no design intends is reported.
+SIZE_RATIO = 5.0  # collision's largest extent vs the visual's, either way
+GAP_RATIO = 1.0  # gap between the two bounding boxes vs the larger shape
+PLACEHOLDER = 0.005  # m: shapes this small are stand-ins ("no visual", "no collision")
+
+
+@rule("geometry.visual-collision-mismatch", "warning",
+      "a link's collision shape grossly differs from its visual (size or place)",
+      doc="""
+The collision is what the simulator and planners use; the visual is what people see. Collision
+shapes are often simplified, but a collision box ten times the visual, or a collision sphere
+placed far from the visual, is almost always a typo (a missing decimal point, radius and
+diameter swapped, an origin copied from another link). Compared are the bounding boxes of the
+primitive visuals and collisions of each link (meshes are the `mesh` family's business): the
+largest extents may differ by up to 5x, and the boxes may not be apart by more than the larger
+shape's size. Shapes under 5 mm are taken as placeholders and not compared.
+""",
+      bad=_wheel('<cylinder radius="0.05" length="0.02"/>',
+                 '<cylinder radius="0.5" length="0.02"/>'),
+      good=_wheel('<cylinder radius="0.05" length="0.02"/>',
+                  '<cylinder radius="0.05" length="0.02"/>'))
+def visual_collision_mismatch(robot) -> Iterator[Finding]:
+    for link in robot.links:
+        if not link.visuals or not link.collisions:
+            continue
+        visual_boxes = [_bounds(s) for s in link.visuals]
+        collision_boxes = [_bounds(s) for s in link.collisions]
+        if None in visual_boxes or None in collision_boxes:
+            continue  # a mesh, or a size that does not parse
+        visual, collision = _union(visual_boxes), _union(collision_boxes)
+        seen, solid = _size(visual), _size(collision)
+        if min(seen, solid) < PLACEHOLDER:
+            continue  # a millimetre sphere standing in for "no visual" / "no collision"
+        first = link.collisions[0]
+        label = (_describe(first.geometry) if len(link.collisions) == 1 else
+                 f"{len(link.collisions)} collision shapes")
+        shown = (_describe(link.visuals[0].geometry) if len(link.visuals) == 1 else
+                 f"{len(link.visuals)} visual shapes")
+        ratio = solid / seen
+        if ratio > SIZE_RATIO or ratio < 1 / SIZE_RATIO:
+            bigger = "larger" if ratio > 1 else "smaller"
+            factor = ratio if ratio > 1 else 1 / ratio
+            yield Finding(f"link '{link.name}': the collision ({label}, {solid:g} across) is "
+                          f"{factor:.3g}x {bigger} than the visual ({shown}, {seen:g} across)",
+                          first.geometry.loc or first.loc,
+                          hint="make the collision match what the visual shows")
+            continue
+        gap = _gap(visual, collision)
+        if gap > GAP_RATIO * max(seen, solid):
+            a, b = _centre(visual), _centre(collision)
+            offset = " ".join(f"{b[i] - a[i]:g}" for i in range(3))
+            yield Finding(f"link '{link.name}': the collision ({label}) is {gap:g} away from the "
+                          f"visual ({shown}); centres differ by ({offset})", first.loc,
+                          hint="check the collision's <origin>: it should overlap the visual")
+
+
+@rule("geometry.missing-collision", "info",
+      "a moving link that has a visual and mass but no collision",
+      doc="""
+A link that moves, is drawn and has mass, but has no `<collision>`, passes through the floor
+and through other links in simulation and is invisible to motion planners. Often intended
+(decorative covers, a link whose collision sits on a rigidly attached sibling), hence only
+advice. A collision on any link fixed to it counts.
+""",
+      bad=_wheel('<cylinder radius="0.05" length="0.02"/>', None),
+      good=_wheel('<cylinder radius="0.05" length="0.02"/>',
+                  '<cylinder radius="0.05" length="0.02"/>'))
+def missing_collision(robot) -> Iterator[Finding]:
+    fixed_children: dict[str, list[str]] = {}
+    fixed_parent: dict[str, str] = {}
+    for joint in robot.joints:
+        if joint.type == "fixed" and joint.parent is not None and joint.child is not None:
+            fixed_children.setdefault(joint.parent, []).append(joint.child)
+            fixed_parent.setdefault(joint.child, joint.parent)
+
+    def rigid_group(name: str) -> set[str]:
+        """The link and every link welded to it through fixed joints (up and down)."""
+        top, seen = name, {name}
+        while top in fixed_parent and fixed_parent[top] not in seen:
+            top = fixed_parent[top]
+            seen.add(top)
+        group, todo = {top}, [top]
+        while todo:
+            for child in fixed_children.get(todo.pop(), []):
+                if child not in group:
+                    group.add(child)
+                    todo.append(child)
+        return group
+
+    for joint in robot.joints:
+        if not joint.moving:
+            continue
+        link = robot.link(joint.child)
+        if link is None or not link.visuals or link.collisions:
+            continue
+        mass = link.inertial.mass if link.inertial is not None else None
+        if mass is None or not mass > 0:
+            continue
+        group = rigid_group(link.name)
+        if any(robot.link(n) is not None and robot.link(n).collisions for n in group):
+            continue
+        yield Finding(f"link '{link.name}' moves (joint '{joint.name}', {joint.type}), has a "
+                      f"visual and {mass:g} kg but no <collision>: it passes through everything "
+                      "in simulation", link.loc,
+                      hint="add a <collision> (the visual's geometry, or a simpler shape)")
