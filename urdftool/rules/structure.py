@@ -391,16 +391,20 @@ delete it.
                          '<child link="camera"/></joint>'))
 def orphan_link(robot) -> Iterator[Finding]:
     connected, isolated, _ = _trees(robot)
-    if not connected:
+    if not robot.joints:
         return  # no joints at all: multiple-roots says it
-    main = connected[0]
+    roots = connected or isolated
+    if not roots:
+        return  # every link is a child: the loop rule says why
+    main = roots[0]
+    isolated = [name for name in isolated if name != main]
     for name in isolated:
         link = robot.link(name)
         yield Finding(f"link '{name}' is connected to no joint: it is not part of the tree "
                       f"rooted at '{main}'", link.loc if link else None,
                       hint=f'attach it: <joint name="{name}_joint" type="fixed"><parent '
                       f'link="..."/><child link="{name}"/></joint>, or remove it')
-    reachable = _reachable(robot, connected)
+    reachable = _reachable(robot, [main] + connected)
     on_loop = {j.child for cycle in _cycles(robot) for j in cycle}
     known = set(_link_names(robot))
     seen: set[str] = set()
