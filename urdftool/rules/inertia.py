@@ -1,3 +1,394 @@
-"""Rules of the `inertia` family (see DESIGN.md for what the family covers)."""
+"""Rules of the `inertia` family: what a link's `<inertial>` declares, against physics and
+against the link's own geometry.
+
+Two kinds of finding, kept apart on purpose:
+
+- impossible (error): a negative mass, a tensor that is not positive definite, principal
+  moments that break the triangle inequality, a moment larger than the declared mass can have
+  anywhere inside what the link looks like and touches;
+- unusual (warning or info): axes swapped against the geometry, a unit slip, a centre of mass
+  outside the geometry, a large mismatch, an implausible density.
+
+Geometry-based rules only run on links whose geometry is complete (every visual and collision
+readable: primitives, and meshes that load); nothing is guessed about links without geometry.
+The analysis is shared with `urdftool inertia` (``urdftool.physics.links``). Pure Python for
+primitive robots; numpy and trimesh are imported only when a link has a mesh.
+"""
 
 from __future__ import annotations
+
+import math
+
+from urdftool.physics import links as analysis
+from urdftool.physics.links import AXIS_NAMES
+from urdftool.report import Finding
+from urdftool.rules import rule
+
+_INERTIA = '<inertia ixx="{0}" ixy="0" ixz="0" iyy="{1}" iyz="0" izz="{2}"/>'
+
+
+def _robot(body: str) -> str:
+    return f'<robot name="r">\n{body}\n</robot>'
+
+
+def _link(name: str, mass: str, moments: tuple[str, str, str], geometry: str = "",
+          origin: str = "") -> str:
+    inertial = (f'  <inertial>{origin}<mass value="{mass}"/>'
+                f'{_INERTIA.format(*moments)}</inertial>')
+    shapes = (f'\n  <visual><geometry>{geometry}</geometry></visual>'
+              f'\n  <collision><geometry>{geometry}</geometry></collision>') if geometry else ""
+    return f'<link name="{name}">\n{inertial}{shapes}\n</link>'
+
+
+def _inertia_loc(link):
+    inertial = link.inertial
+    if inertial is None:
+        return link.loc
+    return inertial.inertia_loc or inertial.loc or link.loc
+
+
+def _mass_loc(link):
+    inertial = link.inertial
+    return (inertial.mass_loc or inertial.loc or link.loc) if inertial is not None else link.loc
+
+
+def _analyses(robot, name: str):
+    for a in analysis.analyse(robot).values():
+        if name in a.findings:
+            yield a
+
+
+def _g(value: float) -> str:
+    return f"{value:.4g}"
+
+
+def _block_hint(a) -> str | None:
+    block = analysis.derived_inertial(a)
+    if block is None:
+        return None
+    return ("the geometry gives " + analysis.inertial_xml(block, compact=True)
+            + f"; see `urdftool inertia FILE --link {a.link.name}`")
+
+
+def _centroid_hint(a) -> str:
+    if a.solid is None:
+        return "put the inertial <origin xyz> inside the body, in this link's frame"
+    x, y, z = a.solid.centroid
+    return (f"the {a.derived_from} geometry's centroid is at ({_g(x)}, {_g(y)}, {_g(z)}); "
+            "the inertial <origin xyz> is in this link's frame")
+
+
+# -- validity --------------------------------------------------------------------------------
+
+
+@rule("inertia.mass-not-positive", "error",
+      "a link declares a negative mass, inertia without mass, or a massless free base",
+      doc="""A mass is positive. Three declarations cannot describe a body:
+
+- a negative mass;
+- mass 0 with non-zero moments of inertia: a moment is a sum of m·r² terms, so a body
+  without mass has none;
+- a base link (the root of the tree) with mass 0 while nothing fixed to it has mass and the
+  robot has moving joints: as a free body it has no dynamics. PyBullet silently makes such
+  a base static, Gazebo and Drake refuse it.
+
+Mass 0 with zero inertia on a link fixed to a body that has mass (a frame like `tool0` or
+`base_footprint`) is a deliberate massless frame and is fine. A robot meant to be bolted to
+the ground says so with a `world` link and a fixed joint.""",
+      bad=_robot('<link name="base">\n  <inertial><mass value="0"/>'
+                 + _INERTIA.format(0, 0, 0) + '</inertial>\n</link>\n'
+                 '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
+                 '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+                 '</joint>\n' + _link("arm", "1", ("0.01", "0.01", "0.01"))),
+      good=_robot('<link name="base">\n  <inertial><mass value="5"/>'
+                  + _INERTIA.format(0.05, 0.05, 0.05) + '</inertial>\n</link>\n'
+                  '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
+                  '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+                  '</joint>\n' + _link("arm", "1", ("0.01", "0.01", "0.01"))))
+def mass_not_positive(robot):
+    bodies = analysis.RigidBodies(robot)
+    for link in robot.links:
+        inertial = link.inertial
+        if inertial is None or inertial.mass is None or not math.isfinite(inertial.mass):
+            continue
+        mass = inertial.mass
+        if mass < 0:
+            yield Finding(f"link '{link.name}': mass {mass:g} kg is negative", _mass_loc(link),
+                          hint="a mass is positive: write the link's mass in kilograms")
+            continue
+        if mass > 0:
+            continue
+        tensor = inertial.tensor
+        largest = max((abs(v) for row in tensor for v in row), default=0.0) if tensor else 0.0
+        if largest > 0:
+            yield Finding(f"link '{link.name}': mass 0 but moments of inertia up to "
+                          f"{largest:g} kg·m²; a body without mass has no inertia "
+                          "(a moment is at most m·r²)", _mass_loc(link),
+                          hint="give the mass, or set the inertia to 0 for a massless frame")
+        elif bodies.is_free_massless_base(link.name):
+            yield Finding(f"link '{link.name}' is the base, has mass 0 and nothing fixed to it "
+                          "has mass, while joints move below it: a free body without mass has "
+                          "no dynamics (PyBullet silently makes it static, Gazebo and Drake "
+                          "reject it)", _mass_loc(link),
+                          hint="give the base its mass; to bolt the robot down, add a 'world' "
+                               "link and a fixed joint to it")
+
+
+@rule("inertia.massless-moving-link", "warning",
+      "a link that moves has no <inertial>, or nothing on it or beyond it has mass",
+      doc="""A link attached by a moving joint needs mass and inertia: it is a body the
+joint accelerates. Without `<inertial>` PyBullet substitutes 1 kg and 1 kg·m² (adding mass the
+robot does not have) and Gazebo drops the link and everything attached to it. With mass 0 and
+nothing beyond it carrying mass, the joint moves nothing and its equation of motion is
+singular.
+
+A massless link between two joints (a hip or wrist built from several revolute joints) is fine
+when the links beyond it carry mass; it is not reported.""",
+      bad=_robot(_link("base", "1", ("0.01", "0.01", "0.01")) + '\n'
+                 '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
+                 '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+                 '</joint>\n<link name="arm"/>'),
+      good=_robot(_link("base", "1", ("0.01", "0.01", "0.01")) + '\n'
+                  '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
+                  '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+                  '</joint>\n' + _link("arm", "0.5", ("0.001", "0.001", "0.001"))))
+def massless_moving_link(robot):
+    bodies = analysis.RigidBodies(robot)
+    for link in robot.links:
+        joint = robot.parent_joint(link.name) if link.name is not None else None
+        if joint is None or not joint.moving:
+            continue
+        moves = f"link '{link.name}' moves (joint '{joint.name}', {joint.type})"
+        if link.inertial is None:
+            yield Finding(f"{moves} but has no <inertial>: PyBullet gives it 1 kg and "
+                          "1 kg·m², Gazebo drops it and what hangs from it", link.loc,
+                          hint="add an <inertial> with the link's mass and inertia "
+                               "(`urdftool inertia FILE --density 1000` suggests one)")
+        elif link.inertial.mass == 0 and bodies.subtree_mass(link.name) == 0:
+            yield Finding(f"{moves} but neither it nor anything beyond it has mass: the "
+                          "joint moves nothing and its equation of motion is singular",
+                          _mass_loc(link), hint="give the link its mass and inertia")
+
+
+@rule("inertia.not-positive-definite", "error",
+      "the inertia tensor has a negative (or, on a moving link, zero) principal moment",
+      doc="""An inertia tensor is symmetric positive definite: every principal moment (its
+eigenvalue) is the sum of two positive second moments of the mass. A negative principal
+moment is impossible; simulators reject the link or integrate garbage. The usual cause is a
+sign convention: CAD tools export products of inertia as ∫xy dm, URDF wants the tensor
+element -∫xy dm, so `ixy`, `ixz`, `iyz` have the wrong sign.
+
+A zero principal moment (a point mass, an infinitely thin rod) on a link that moves is a
+warning: ODE rejects it and Bullet or MuJoCo clamp it to an arbitrary minimum. On a link fixed
+to another body it is harmless (the masses are lumped) and not reported.""",
+      bad=_robot('<link name="a">\n  <inertial><mass value="1"/>'
+                 '<inertia ixx="0.01" ixy="0.02" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>'
+                 '</inertial>\n</link>'),
+      good=_robot('<link name="a">\n  <inertial><mass value="1"/>'
+                  '<inertia ixx="0.01" ixy="-0.002" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>'
+                  '</inertial>\n</link>'))
+def not_positive_definite(robot):
+    for a in analysis.analyse(robot).values():
+        severity = a.findings.get("not-positive-definite")
+        if severity is None:
+            continue
+        low, mid, high = a.principal
+        moments = f"principal moments {_g(low)}, {_g(mid)}, {_g(high)} kg·m²"
+        if severity == "error":
+            yield Finding(f"link '{a.link.name}': {moments}: {_g(low)} is negative, which no "
+                          "mass distribution gives", _inertia_loc(a.link),
+                          hint="check the signs of ixy, ixz, iyz (URDF wants -∫xy dm; CAD "
+                               "tools often export +∫xy dm)")
+        else:
+            yield Finding(f"link '{a.link.name}' moves but its inertia is zero about a "
+                          f"principal axis ({moments}): a point mass or an infinitely thin rod; "
+                          "ODE rejects it, Bullet and MuJoCo clamp it",
+                          _inertia_loc(a.link), hint=_block_hint(a), severity="warning")
+
+
+@rule("inertia.triangle-inequality", "error",
+      "the principal moments break the triangle inequality (one exceeds the sum of the others)",
+      doc="""For any body, each principal moment is at most the sum of the other two:
+I1 = B + C, I2 = A + C, I3 = A + B with A, B, C ≥ 0 the second moments of the mass along the
+principal axes, so I1 + I2 - I3 = 2C ≥ 0. A tensor that breaks this is not the inertia of any
+mass distribution; physics engines that check it (Drake, MuJoCo) refuse it, others integrate
+unphysical motion. Equality is a flat plate; a relative tolerance of 1% of the largest moment
+lets rounded CAD exports and thin rods through.""",
+      bad=_robot(_link("a", "1", ("0.01", "0.01", "0.05"))),
+      good=_robot(_link("a", "1", ("0.01", "0.01", "0.02"))))
+def triangle_inequality(robot):
+    for a in _analyses(robot, "triangle-inequality"):
+        low, mid, high = a.principal
+        excess = high - (low + mid)
+        yield Finding(f"link '{a.link.name}': principal moments {_g(low)} + {_g(mid)} < "
+                      f"{_g(high)} kg·m² (short by {excess / high:.0%} of the largest): no mass "
+                      "distribution has these moments", _inertia_loc(a.link),
+                      hint=_block_hint(a) or "recompute the inertia from the link's shape")
+
+
+# -- against the geometry --------------------------------------------------------------------
+
+
+@rule("inertia.exceeds-geometry", "error",
+      "a declared moment is larger than the mass can have inside the link's geometry",
+      doc="""A mass m lying inside a region has, about any axis through its centre of mass,
+a moment of at most m·r², where r is the largest distance from that axis to a point of the
+region. urdftool takes the region to be the union of the link's visual and collision
+geometry (a body is not larger than what it looks like and what it touches; collision shapes
+alone are often deliberately shrunk) and checks the axes of the inertial frame and the
+principal axes. More than 2x over the bound is an error: the declared inertia is physically
+impossible for that mass (typically a placeholder like `ixx="1"` on a 50 g finger, or a unit
+slip). Between 1x and 2x it is a warning: possible only if the geometry leaves out part of the
+body (a motor that is not drawn). Links whose geometry is missing or unreadable are not
+checked.""",
+      bad=_robot(_link("wheel", "0.1", ("1.0", "1.0", "1.0"),
+                       '<cylinder radius="0.025" length="0.02"/>')),
+      good=_robot(_link("wheel", "0.1", ("1.9e-05", "1.9e-05", "3.1e-05"),
+                        '<cylinder radius="0.025" length="0.02"/>')))
+def exceeds_geometry(robot):
+    for a in _analyses(robot, "exceeds-geometry"):
+        b = a.bound
+        m = a.mass
+        axis = b.axis_name if b.axis_name.startswith("principal") else f"{b.axis_name} axis"
+        yield Finding(f"link '{a.link.name}': moment {_g(b.moment)} kg·m² about the "
+                      f"{axis} through the COM is {b.ratio:.3g}x the most {m:g} kg can have "
+                      f"within its visual and collision geometry ({m:g} kg × "
+                      f"({_g(b.reach)} m)² = {_g(b.bound)} kg·m²)", _inertia_loc(a.link),
+                      hint=_block_hint(a), severity=a.findings["exceeds-geometry"])
+
+
+def _permutation_text(perm: tuple[int, int, int]) -> str:
+    names = [f"i{a}{a}" for a in AXIS_NAMES]
+    moved = [i for i in range(3) if perm[i] != i]
+    if len(moved) == 2:
+        return f"{names[moved[0]]} and {names[moved[1]]} swapped"
+    # declared axis perm[i] carries the geometry's axis i
+    inverse = [perm.index(k) for k in range(3)]
+    return ("declared " + ", ".join(names) + " are the geometry's "
+            + ", ".join(names[inverse[k]] for k in range(3)))
+
+
+@rule("inertia.permuted-axes", "warning",
+      "the declared moments are the geometry's with two axes swapped",
+      doc="""The declared principal moments match what the link's geometry gives for its
+mass, but on the wrong axes: the moment that belongs about x is written as izz, for instance.
+This happens when a formula for a shape along z (a cylinder's izz = m r²/2) is pasted onto a
+shape lying along x, or when the box formula gets its sides in the wrong order. The link then
+turns too easily about one axis and too hard about another. Compared in the inertial frame,
+after rotating the geometry's tensor into it; reported only when the declared tensor is off
+by 30% or more as written and within 10% once permuted.""",
+      bad=_robot(_link("leg", "1", ("0.0034", "0.0034", "0.00017"),
+                       '<box size="0.2 0.04 0.04"/>')),
+      good=_robot(_link("leg", "1", ("0.00027", "0.0035", "0.0035"),
+                        '<box size="0.2 0.04 0.04"/>')))
+def permuted_axes(robot):
+    for a in _analyses(robot, "permuted-axes"):
+        d = [a.declared[i][i] for i in range(3)]
+        g = [a.derived[i][i] for i in range(3)]
+        yield Finding(f"link '{a.link.name}': declared ixx, iyy, izz = {_g(d[0])}, {_g(d[1])}, "
+                      f"{_g(d[2])} kg·m² match its {a.derived_from} geometry's "
+                      f"{_g(g[0])}, {_g(g[1])}, {_g(g[2])} with "
+                      f"{_permutation_text(a.permutation)}", _inertia_loc(a.link),
+                      hint=f"write ixx=\"{_g(g[0])}\" iyy=\"{_g(g[1])}\" izz=\"{_g(g[2])}\"")
+
+
+_SLIPS = {
+    1e3: "inertia in g·m² rather than kg·m²",
+    1e6: "inertia in kg·mm² rather than kg·m²",
+    1e-3: "mass in grams rather than kilograms",
+    1e-6: "geometry in millimetres (a mesh without scale=\"0.001 0.001 0.001\")",
+}
+
+
+@rule("inertia.unit-scale", "warning",
+      "the declared inertia is the geometry's times 1000 or a million (or divided by it)",
+      doc="""All three declared moments differ from what the geometry gives for the
+declared mass by the same power of a thousand: grams for kilograms, millimetres for metres
+(kg·mm² is a million times kg·m²). CAD tools export in their document units and the numbers
+get pasted as they are. Reported when the ratio is within a factor √10 of 10³ or 10⁶ (or
+their inverses) on every axis alike; a ratio above 1 must also break the geometry bound
+(`inertia.exceeds-geometry`), so a large but possible inertia is not called a slip.""",
+      bad=_robot(_link("box", "1", ("0.41", "0.41", "0.41"),
+                       '<box size="0.05 0.05 0.05"/>')),
+      good=_robot(_link("box", "1", ("0.00041", "0.00041", "0.00041"),
+                        '<box size="0.05 0.05 0.05"/>')))
+def unit_scale(robot):
+    for a in _analyses(robot, "unit-scale"):
+        ratio = [r for r in a.ratios]
+        yield Finding(f"link '{a.link.name}': declared moments are {_g(ratio[0])}x, "
+                      f"{_g(ratio[1])}x, {_g(ratio[2])}x (ixx, iyy, izz) what its "
+                      f"{a.derived_from} geometry gives for {a.mass:g} kg: "
+                      f"{_SLIPS[a.unit_slip]}?", _inertia_loc(a.link), hint=_block_hint(a))
+
+
+@rule("inertia.com-outside-geometry", "warning",
+      "the centre of mass lies outside the link's visual and collision geometry",
+      doc="""A body's centre of mass lies inside the convex hull of the body. urdftool takes
+the hull of the link's visual and collision geometry together and reports a centre of mass
+outside it by more than a quarter of the body's width in that direction (decimated meshes and
+rounded numbers stay well within that). Common causes: the inertial `<origin>` copied from the
+joint or written in the parent's frame, a sign error, a `<pose>` that URDF ignores, or
+geometry that leaves out a heavy part.""",
+      bad=_robot('<link name="chassis">\n  <inertial><origin xyz="0 0 0.1"/>'
+                 '<mass value="5"/>' + _INERTIA.format(0.0395, 0.106, 0.142) + '</inertial>\n'
+                 '  <visual><geometry><box size="0.5 0.3 0.07"/></geometry></visual>\n'
+                 '</link>'),
+      good=_robot('<link name="chassis">\n  <inertial><origin xyz="0 0 0"/>'
+                  '<mass value="5"/>' + _INERTIA.format(0.0395, 0.106, 0.142) + '</inertial>\n'
+                  '  <visual><geometry><box size="0.5 0.3 0.07"/></geometry></visual>\n'
+                  '</link>'))
+def com_outside_geometry(robot):
+    for a in _analyses(robot, "com-outside-geometry"):
+        x, y, z = a.com
+        loc = a.link.inertial.loc or a.link.loc
+        yield Finding(f"link '{a.link.name}': centre of mass ({x:g}, {y:g}, {z:g}) lies "
+                      f"{_g(a.com_distance)} m outside the convex hull of its visual and "
+                      f"collision geometry ({a.com_distance / a.com_thickness:.0%} of the "
+                      f"body's {_g(a.com_thickness)} m width in that direction)", loc,
+                      hint=_centroid_hint(a))
+
+
+@rule("inertia.geometry-mismatch", "info",
+      "the declared inertia differs from the geometry's by more than 10x",
+      doc="""The declared moments are possible (within the bound of
+`inertia.exceeds-geometry`) but more than ten times larger or smaller than a uniform body of
+the link's shape and mass would have. Real links are not uniform (motors, hollow shells), so
+this is advice only: worth a look, not necessarily wrong. Nothing is said below 10x.""",
+      bad=_robot(_link("a", "1", ("0.0001", "0.0001", "0.0001"), '<sphere radius="0.1"/>')),
+      good=_robot(_link("a", "1", ("0.004", "0.004", "0.004"), '<sphere radius="0.1"/>')))
+def geometry_mismatch(robot):
+    for a in _analyses(robot, "geometry-mismatch"):
+        worst = max(a.ratios, key=lambda r: max(r, 1 / r) if r > 0 else math.inf)
+        d = [a.declared[i][i] for i in range(3)]
+        g = [a.derived[i][i] for i in range(3)]
+        factor = worst if worst >= 1 else 1 / worst
+        direction = "larger" if worst >= 1 else "smaller"
+        yield Finding(f"link '{a.link.name}': declared moments are up to {factor:.3g}x "
+                      f"{direction} than a uniform body of its {a.derived_from} geometry and "
+                      f"{a.mass:g} kg (ixx, iyy, izz declared {_g(d[0])}, {_g(d[1])}, "
+                      f"{_g(d[2])}; geometry {_g(g[0])}, {_g(g[1])}, {_g(g[2])} kg·m²)",
+                      _inertia_loc(a.link), hint=_block_hint(a))
+
+
+@rule("inertia.implausible-density", "info",
+      "mass and geometry volume give a density lighter than foam or denser than osmium",
+      doc="""The declared mass divided by the volume of the link's geometry is below
+10 kg/m³ (lighter than expanded polystyrene) or above 25000 kg/m³ (denser than any element).
+Either the mass or the geometry is off, often by a unit (grams, millimetres). Advice only:
+geometry can be a shell or leave parts out. Both the collision and the visual volumes must
+agree before anything is said.""",
+      bad=_robot(_link("a", "100", ("0.06", "0.06", "0.06"), '<box size="0.06 0.06 0.06"/>')),
+      good=_robot(_link("a", "1", ("0.0006", "0.0006", "0.0006"), '<box size="0.06 0.06 0.06"/>')))
+def implausible_density(robot):
+    for a in _analyses(robot, "implausible-density"):
+        volumes = a.volumes
+        if a.mass / min(volumes.values()) < analysis.DENSITY_LOW:
+            role = min(volumes, key=volumes.__getitem__)
+            density = a.mass / volumes[role]
+            what = f"lighter than foam (< {analysis.DENSITY_LOW:g} kg/m³)"
+        else:
+            role = max(volumes, key=volumes.__getitem__)
+            density = a.mass / volumes[role]
+            what = f"denser than osmium (> {analysis.DENSITY_HIGH:g} kg/m³)"
+        yield Finding(f"link '{a.link.name}': {a.mass:g} kg in {_g(volumes[role])} m³ of "
+                      f"{role} geometry is {_g(density)} kg/m³, {what}", _mass_loc(a.link))

@@ -1,3 +1,185 @@
-"""Rules of the `mesh` family (see DESIGN.md for what the family covers)."""
+"""Rules of the `mesh` family: `<mesh filename>` references that do not resolve or load, meshes
+in the wrong unit, and open meshes whose volume the inertia checks had to approximate.
+
+Meshes are loaded with trimesh, lazily (a robot without meshes never imports it), once per
+file per run (``urdftool.physics.meshes``). Without trimesh installed, only resolution and
+existence are checked.
+"""
 
 from __future__ import annotations
+
+import math
+import statistics
+
+from urdftool.physics import links as analysis
+from urdftool.report import Finding
+from urdftool.rules import rule
+
+
+def _mesh_shapes(robot):
+    """(link, ShapeInfo) for every mesh of the robot."""
+    for a in analysis.analyse(robot).values():
+        for info in a.shapes:
+            if info.shape.geometry.kind == "mesh" and info.shape.geometry.filename:
+                yield a, info
+
+
+def _loc(info):
+    return info.shape.geometry.loc or info.shape.loc
+
+
+def _what(a, info) -> str:
+    return f"link '{a.link.name}' {info.shape.role}"
+
+
+@rule("mesh.unresolved", "warning", "a mesh URI names a package urdftool cannot find",
+      doc="""`package://NAME/path` needs package NAME: urdftool looks for it with `-P NAME=DIR`,
+the nearest `package.xml` above the file and its siblings, `ROS_PACKAGE_PATH`,
+`AMENT_PREFIX_PATH`, and a directory called NAME above the file (`package://urdftool/...` are
+the example meshes shipped with urdftool). When none has it, the mesh
+cannot be checked, and a robot tool run in the same environment will not find it either.
+`package:///path` (an empty package name) is rejected by ROS's resource retriever even when
+some tools (pinocchio) accept it. Other URI schemes (`http://`, `model://`) are not
+local files.""",
+      bad='<robot name="r"><link name="a"><visual><geometry>'
+          '<mesh filename="package://no_such_package_xyz/meshes/a.stl"/>'
+          '</geometry></visual></link></robot>',
+      good='<robot name="r"><link name="a"><visual><geometry>'
+           '<box size="0.1 0.1 0.1"/></geometry></visual></link></robot>')
+def unresolved(robot):
+    for a, info in _mesh_shapes(robot):
+        uri = info.shape.geometry.filename.strip()
+        if uri.startswith("package:///"):
+            yield Finding(f"{_what(a, info)} mesh {uri!r} has an empty package name: ROS's "
+                          "resource retriever rejects it", _loc(info),
+                          hint="write package://PACKAGE/" + uri[len("package:///"):])
+        elif info.path is None:
+            if uri.startswith("package://"):
+                name = uri[len("package://"):].partition("/")[0]
+                yield Finding(f"{_what(a, info)} mesh {uri!r}: package '{name}' is not found",
+                              _loc(info), hint=f"pass -P {name}=DIR, or set ROS_PACKAGE_PATH")
+            else:
+                yield Finding(f"{_what(a, info)} mesh {uri!r} is not a local file",
+                              _loc(info), hint="use package://PACKAGE/... or a relative path")
+
+
+@rule("mesh.not-found", "error", "a mesh file does not exist",
+      doc="""The mesh reference resolves to a path where there is no file. Every robot tool
+fails to show or collide the link (rviz shows nothing, Gazebo and PyBullet print an error and
+drop the shape). Relative paths are relative to the file where the `<mesh>` is written.""",
+      bad='<robot name="r"><link name="a"><visual><geometry>'
+          '<mesh filename="meshes/does_not_exist.stl"/></geometry></visual></link></robot>',
+      good='<robot name="r"><link name="a"><visual><geometry>'
+           '<box size="0.1 0.1 0.1"/></geometry></visual></link></robot>')
+def not_found(robot):
+    for a, info in _mesh_shapes(robot):
+        if info.path is not None and not info.path.is_file():
+            yield Finding(f"{_what(a, info)} mesh {info.shape.geometry.filename!r}: no file "
+                          f"at {info.path}", _loc(info))
+
+
+@rule("mesh.unreadable", "error", "a mesh file cannot be read as a mesh",
+      doc="""The file exists but trimesh cannot read it (corrupt, truncated, an HTML error page
+saved as .stl, a format with no triangles). Simulators fail on it the same way. Formats trimesh
+does not read (Ogre `.mesh`, for instance) are not checked.""",
+      bad='<robot name="r"><link name="a"><visual><geometry>'
+          '<mesh filename="package://urdftool/physics/examples/corrupt.stl"/>'
+          '</geometry></visual></link></robot>',
+      good='<robot name="r"><link name="a"><visual><geometry>'
+           '<box size="0.1 0.1 0.1"/></geometry></visual></link></robot>')
+def unreadable(robot):
+    for a, info in _mesh_shapes(robot):
+        mesh = info.mesh
+        if mesh is not None and mesh.error is not None:
+            yield Finding(f"{_what(a, info)} mesh {info.path.name} cannot be read: "
+                          f"{mesh.error}", _loc(info))
+
+
+def _reference_size(robot, skip) -> float | None:
+    """The robot's typical dimension: joint offsets and primitive sizes (median), or the
+    other meshes' sizes when there is nothing else."""
+    sizes = []
+    for joint in robot.joints:
+        length = math.sqrt(sum(c * c for c in joint.origin.xyz))
+        if length > 0 and math.isfinite(length):
+            sizes.append(length)
+    meshes_sizes = []
+    for a in analysis.analyse(robot).values():
+        for info in a.shapes:
+            g = info.shape.geometry
+            if g.kind == "box" and g.size:
+                sizes.append(max(abs(v) for v in g.size))
+            elif g.kind in ("cylinder", "capsule") and g.radius and g.length:
+                sizes.append(max(2 * abs(g.radius), abs(g.length)))
+            elif g.kind == "sphere" and g.radius:
+                sizes.append(2 * abs(g.radius))
+            elif info is not skip and info.mesh is not None and info.mesh.ok:
+                meshes_sizes.append(_mesh_size(info))
+    sizes = [s for s in sizes if s > 0 and math.isfinite(s)]
+    if sizes:
+        return statistics.median(sizes)
+    return statistics.median(meshes_sizes) if meshes_sizes else None
+
+
+def _mesh_size(info) -> float:
+    extents = info.mesh.extents
+    scale = info.shape.geometry.scale
+    return max(abs(e * s) for e, s in zip(extents, scale))
+
+
+@rule("mesh.scale", "warning", "a mesh is about 1000x too large: millimetres read as metres",
+      doc="""URDF lengths are metres, and so are the coordinates of a mesh file. CAD tools
+often export STL in millimetres; without `scale="0.001 0.001 0.001"` the part is then a
+thousand times too large (a 10 cm bracket becomes 100 m). Reported when a mesh is at least
+2 m across and 200 times the robot's typical dimension (the median of its joint offsets and
+primitive shapes, or of its other meshes).""",
+      bad='<robot name="r">\n<link name="a"><visual><geometry><box size="0.1 0.1 0.1"/>'
+          '</geometry></visual></link>\n<joint name="j" type="fixed"><parent link="a"/>'
+          '<child link="b"/><origin xyz="0.1 0 0"/></joint>\n<link name="b"><visual>'
+          '<geometry><mesh filename="package://urdftool/physics/examples/bracket_mm.stl"/></geometry></visual></link>\n'
+          '</robot>',
+      good='<robot name="r">\n<link name="a"><visual><geometry><box size="0.1 0.1 0.1"/>'
+           '</geometry></visual></link>\n<joint name="j" type="fixed"><parent link="a"/>'
+           '<child link="b"/><origin xyz="0.1 0 0"/></joint>\n<link name="b"><visual>'
+           '<geometry><mesh filename="package://urdftool/physics/examples/bracket_mm.stl" scale="0.001 0.001 0.001"/>'
+           '</geometry></visual></link>\n</robot>')
+def scale(robot):
+    for a, info in _mesh_shapes(robot):
+        if info.mesh is None or not info.mesh.ok:
+            continue
+        size = _mesh_size(info)
+        if size < 2.0:
+            continue
+        reference = _reference_size(robot, info)
+        if reference is None or size < 200 * reference:
+            continue
+        yield Finding(f"{_what(a, info)} mesh {info.path.name} is {size:.4g} m across, "
+                      f"{size / reference:.3g}x the robot's typical dimension "
+                      f"({reference:.3g} m): a mesh in millimetres?", _loc(info),
+                      hint='add scale="0.001 0.001 0.001" to the <mesh>')
+
+
+@rule("mesh.not-watertight", "info",
+      "a mesh used for the inertia checks is not closed: its convex hull was used instead",
+      doc="""To compare a link's declared inertia with its geometry, urdftool needs the
+volume the mesh encloses, which only a closed (watertight, consistently wound) mesh has. For
+an open mesh it uses the convex hull, which overestimates the volume of concave parts, so the
+geometry-based inertia checks on that link are less precise. Visual meshes are often open;
+this is reported only for the meshes the inertia is derived from (the collision geometry,
+or the visual when there is no usable collision).""",
+      bad='<robot name="r"><link name="a"><inertial><mass value="1"/>'
+          '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'
+          '<collision><geometry><mesh filename="package://urdftool/physics/examples/open_box.stl"/></geometry></collision>'
+          '</link></robot>',
+      good='<robot name="r"><link name="a"><inertial><mass value="1"/>'
+           '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'
+           '<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>'
+           '</link></robot>')
+def not_watertight(robot):
+    for a, info in _mesh_shapes(robot):
+        if a.derived_from != info.shape.role or a.link.inertial is None:
+            continue
+        if info.mesh is not None and info.mesh.ok and info.mesh.used_hull:
+            yield Finding(f"{_what(a, info)} mesh {info.path.name} is not a closed surface; "
+                          "its convex hull stands in for it in the inertia checks",
+                          _loc(info))

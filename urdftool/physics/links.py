@@ -1,0 +1,402 @@
+"""Per-link inertia analysis shared by the ``inertia`` and ``mesh`` rules and the ``inertia``
+command: the declared inertial, the geometry (each shape's unit-density solid and convex
+extent in the link frame), the geometry-derived inertia for the declared mass, the physical
+bound of the declared moments, the COM's distance from the geometry, and one verdict.
+
+``analyse(robot)`` is computed once per robot (the rules of a run share it). Pure Python;
+numpy and trimesh are imported only for links with meshes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from itertools import permutations
+from pathlib import Path
+
+from urdftool.physics import inertia as phys
+from urdftool.physics.inertia import Extent, Mat3, Solid, Vec3
+
+# thresholds (see the rule docs in urdftool/rules/inertia.py for the reasoning)
+BOUND_TOLERANCE = 1.01  # declared moments up to 1% above the bound are rounding
+BOUND_ERROR = 2.0  # above 2x the bound: impossible even with undrawn parts
+TRIANGLE_TOLERANCE = 1e-2  # relative to the largest principal moment
+NEGATIVE_TOLERANCE = 1e-3  # a principal moment below -0.1% of the largest is negative
+ZERO_TOLERANCE = 1e-9  # ... and one below 1e-9 of the largest is zero
+PERMUTED_MATCH = 0.1  # relative tensor error of the best permutation
+PERMUTED_MISMATCH = 0.3  # relative tensor error as written
+UNIT_SLIPS = (1e3, 1e6, 1e-3, 1e-6)
+UNIT_BAND = 10 ** 0.5  # "near 1e3": within a factor sqrt(10)
+MISMATCH_FACTOR = 10.0
+DENSITY_LOW, DENSITY_HIGH = 10.0, 25000.0  # kg/m^3: lighter than foam, denser than osmium
+COM_TOLERANCE = 0.25  # fraction of the body's width (along the way out) the COM may lie outside
+AXIS_NAMES = ("x", "y", "z")
+
+
+@dataclass
+class ShapeInfo:
+    """One visual or collision of a link, as a solid and a convex extent in the link frame."""
+
+    shape: object  # urdftool.model.Shape
+    solid: Solid | None = None  # None: no volume (or unusable)
+    extent: Extent | None = None  # None: unusable
+    problem: str | None = None  # why the shape cannot be used
+    path: Path | None = None  # mesh: the resolved file
+    mesh: object = None  # mesh: its MeshInfo
+    ambiguous: bool = False  # orientation not known for sure (COLLADA Y_UP/X_UP)
+
+    @property
+    def usable(self) -> bool:
+        return self.extent is not None
+
+
+@dataclass
+class BoundCheck:
+    axis_name: str  # "x" of the inertial frame, or "principal 1"...
+    axis: Vec3  # in the link frame
+    moment: float
+    bound: float  # m * max squared distance from the axis
+    reach: float  # sqrt of the max squared distance
+
+    @property
+    def ratio(self) -> float:
+        return self.moment / self.bound if self.bound > 0 else math.inf
+
+
+@dataclass
+class LinkAnalysis:
+    link: object  # urdftool.model.Link
+    moving: bool = False
+    shapes: list[ShapeInfo] = field(default_factory=list)
+    mass: float | None = None
+    com: Vec3 = phys.ZERO3  # declared COM, link frame
+    frame: Mat3 = phys.IDENTITY  # inertial frame -> link frame
+    declared: Mat3 | None = None  # declared tensor, inertial frame
+    principal: Vec3 | None = None
+    principal_axes: tuple[Vec3, Vec3, Vec3] | None = None  # inertial frame
+    derived_from: str | None = None  # "collision" or "visual"
+    solid: Solid | None = None  # geometry used for the derived inertia, link frame
+    derived: Mat3 | None = None  # for the declared mass, about its centroid, inertial frame
+    volumes: dict[str, float] = field(default_factory=dict)  # role -> volume of complete sets
+    bound: BoundCheck | None = None  # the worst axis
+    com_distance: float | None = None  # declared COM to the geometry's convex hull
+    com_thickness: float | None = None  # the hull's width along the direction to the COM
+    size: float | None = None  # largest extent of the geometry's bounding box
+    ratios: Vec3 | None = None  # declared / derived moment about each inertial axis
+    permutation: tuple[int, int, int] | None = None  # declared axis i matches derived perm[i]
+    unit_slip: float | None = None
+    findings: dict[str, str] = field(default_factory=dict)  # rule name -> severity (verdict)
+
+    @property
+    def extents(self) -> list[Extent]:
+        return [s.extent for s in self.shapes if s.extent is not None]
+
+    @property
+    def complete(self) -> bool:
+        """Every visual and collision is usable (so bounds over their union are valid)."""
+        return bool(self.shapes) and all(s.usable for s in self.shapes)
+
+
+# -- shapes -------------------------------------------------------------------------------
+
+
+def _positive(*values) -> bool:
+    return all(v is not None and math.isfinite(v) and v > 0 for v in values)
+
+
+def _shape_info(robot, shape) -> ShapeInfo:
+    info = ShapeInfo(shape)
+    g = shape.geometry
+    rotation = phys.rpy_matrix(shape.origin.rpy)
+    translation = shape.origin.xyz
+    if g.kind == "box":
+        if g.size is None or not _positive(*g.size):
+            info.problem = "box size missing or not positive"
+            return info
+        info.solid = phys.box_solid(g.size).moved(rotation, translation)
+        info.extent = phys.BoxExtent(g.size, rotation, translation)
+    elif g.kind in ("cylinder", "capsule"):
+        if not _positive(g.radius, g.length):
+            info.problem = f"{g.kind} radius or length missing or not positive"
+            return info
+        make = phys.cylinder_solid if g.kind == "cylinder" else phys.capsule_solid
+        info.solid = make(g.radius, g.length).moved(rotation, translation)
+        info.extent = phys.CylinderExtent(g.radius, g.length, rotation, translation,
+                                          capsule=g.kind == "capsule")
+    elif g.kind == "sphere":
+        if not _positive(g.radius):
+            info.problem = "sphere radius missing or not positive"
+            return info
+        info.solid = phys.sphere_solid(g.radius).moved(rotation, translation)
+        info.extent = phys.SphereExtent(g.radius, rotation, translation)
+    elif g.kind == "mesh":
+        _mesh_shape(robot, info, rotation, translation)
+    else:
+        info.problem = "no geometry" if g.kind is None else f"unknown geometry <{g.kind}>"
+    return info
+
+
+def _mesh_shape(robot, info: ShapeInfo, rotation: Mat3, translation: Vec3) -> None:
+    from urdftool.physics import meshes
+
+    g = info.shape.geometry
+    scale = g.scale
+    if not all(math.isfinite(s) and s != 0 for s in scale):
+        info.problem = "mesh scale has a zero"
+        return
+    if not g.filename:
+        info.problem = "mesh without filename"
+        return
+    path = meshes.resolve(robot, g)
+    info.path = path
+    if path is None:
+        info.problem = f"cannot resolve {g.filename!r}"
+        return
+    if not path.is_file():
+        info.problem = f"no file at {path}"
+        return
+    if path.suffix.lower() not in meshes.LOADABLE:
+        info.problem = f"mesh format {path.suffix} not read"
+        return
+    if not meshes.trimesh_available():
+        info.problem = "trimesh is not installed"
+        return
+    mesh = meshes.load_mesh(path)
+    info.mesh = mesh
+    if not mesh.ok:
+        info.problem = f"cannot load {path.name}: {mesh.error}"
+        return
+    info.ambiguous = mesh.up_rotation is not None
+    if mesh.solid is not None:
+        info.solid = mesh.solid.scaled(scale).moved(rotation, translation)
+    info.extent = meshes.MeshExtent(mesh, scale, rotation, translation)
+
+
+# -- analysis -------------------------------------------------------------------------------
+
+
+def _size(extents: list[Extent]) -> float:
+    spans = []
+    for axis in ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)):
+        high = max(phys.dot(e.support(axis), axis) for e in extents)
+        low = min(phys.dot(e.support(phys.mul(axis, -1.0)), axis) for e in extents)
+        spans.append(high - low)
+    return max(spans)
+
+
+def _moving_links(robot) -> set[str]:
+    return {j.child for j in robot.joints if j.moving and j.child is not None}
+
+
+def analyse_link(robot, link, moving: bool = False) -> LinkAnalysis:
+    a = LinkAnalysis(link, moving=moving)
+    a.shapes = [_shape_info(robot, s) for s in link.shapes]
+    inertial = link.inertial
+    if inertial is not None:
+        a.mass = inertial.mass
+        a.com = inertial.origin.xyz
+        a.frame = phys.rpy_matrix(inertial.origin.rpy)
+        a.declared = inertial.tensor
+        if a.declared is not None:
+            a.principal, a.principal_axes = phys.eigen_symmetric(a.declared)
+    for role in ("collision", "visual"):
+        infos = [s for s in a.shapes if s.shape.role == role]
+        if infos and all(s.solid is not None for s in infos):
+            a.volumes[role] = sum(s.solid.volume for s in infos)  # type: ignore[union-attr]
+            if a.derived_from is None and not any(s.ambiguous for s in infos):
+                a.derived_from = role
+                a.solid = phys.combine([s.solid for s in infos])  # type: ignore[misc]
+    if a.complete:
+        a.size = _size(a.extents)
+    _judge(a)
+    return a
+
+
+def _judge(a: LinkAnalysis) -> None:
+    """Compare the declared inertial with the geometry; fills the verdict fields."""
+    m = a.mass
+    if a.link.inertial is None:
+        return
+    if m is None or not math.isfinite(m):
+        return
+    if m <= 0:
+        a.findings["mass-not-positive"] = "error"
+        return
+    if a.declared is None or a.principal is None:
+        return
+    low, mid, high = a.principal
+    if low < -NEGATIVE_TOLERANCE * abs(high) or high < 0:
+        a.findings["not-positive-definite"] = "error"
+        return
+    if low <= ZERO_TOLERANCE * high or high == 0:
+        if a.moving:
+            a.findings["not-positive-definite"] = "warning"
+        if high == 0:
+            return
+    if high - (low + mid) > TRIANGLE_TOLERANCE * high:
+        a.findings["triangle-inequality"] = "error"
+        return
+    # bound over the union of visual and collision geometry
+    if a.complete:
+        extents = a.extents
+        axes: list[tuple[str, Vec3]] = [(AXIS_NAMES[i], phys.IDENTITY[i]) for i in range(3)]
+        if a.principal_axes is not None and any(
+                abs(x) > 1e-9 for i, row in enumerate(a.declared) for j, x in enumerate(row)
+                if i != j):
+            axes += [(f"principal {i + 1}", a.principal_axes[i]) for i in range(3)]
+        worst = None
+        for name, axis in axes:
+            moment = phys.dot(axis, phys.mat_vec(a.declared, axis))
+            link_axis = phys.mat_vec(a.frame, axis)
+            reach2 = phys.max_sq_distance(extents, a.com, link_axis)
+            check = BoundCheck(name, link_axis, moment, m * reach2, math.sqrt(reach2))
+            if worst is None or check.ratio > worst.ratio:
+                worst = check
+        a.bound = worst
+        if worst is not None and worst.ratio > BOUND_TOLERANCE:
+            a.findings["exceeds-geometry"] = "error" if worst.ratio > BOUND_ERROR else "warning"
+        a.com_distance, a.com_thickness = phys.hull_escape(a.com, extents)
+        if a.com_distance > COM_TOLERANCE * a.com_thickness:
+            a.findings["com-outside-geometry"] = "warning"
+    # geometry-derived inertia for the declared mass
+    if a.solid is None:
+        return
+    derived_link = a.solid.inertia(m)
+    a.derived = phys.rotate_tensor(phys.transpose(a.frame), derived_link)
+    d_diag, g_diag = phys.diag(a.declared), phys.diag(a.derived)
+    if min(g_diag) <= 0:
+        return
+    a.ratios = tuple(d / g for d, g in zip(d_diag, g_diag))  # type: ignore[assignment]
+    # unit slip: every moment off by the same power of 1000
+    ratio = phys.trace(a.declared) / phys.trace(a.derived)
+    positive = [r for r in a.ratios if r > 0]
+    uniform = len(positive) == 3 and max(positive) / min(positive) < 3.0
+    for slip in UNIT_SLIPS:
+        if uniform and slip / UNIT_BAND <= ratio <= slip * UNIT_BAND and (
+                slip < 1 or "exceeds-geometry" in a.findings):
+            a.unit_slip = slip
+            a.findings["unit-scale"] = "warning"
+            break
+    # permuted axes
+    reference = phys.frobenius(a.derived)
+    errors = {}
+    for perm in permutations(range(3)):
+        permuted = tuple(tuple(a.declared[perm[i]][perm[j]] for j in range(3)) for i in range(3))
+        errors[perm] = phys.frobenius(phys.mat_add(permuted, phys.mat_scale(a.derived, -1.0)))
+        errors[perm] /= reference
+    as_written = errors[(0, 1, 2)]
+    best = min((p for p in errors if p != (0, 1, 2)), key=errors.__getitem__)
+    if (errors[best] <= PERMUTED_MATCH and as_written >= PERMUTED_MISMATCH
+            and "unit-scale" not in a.findings):
+        a.permutation = best
+        a.findings["permuted-axes"] = "warning"
+    # a large (possible) mismatch, when nothing above explains it
+    if not a.findings and any(r > MISMATCH_FACTOR or r < 1 / MISMATCH_FACTOR
+                              for r in a.ratios):
+        a.findings["geometry-mismatch"] = "info"
+    # density
+    if a.volumes:
+        smallest, largest = min(a.volumes.values()), max(a.volumes.values())
+        too_light = smallest > 0 and m / smallest < DENSITY_LOW
+        too_dense = largest > 0 and m / largest > DENSITY_HIGH
+        if too_light or too_dense:
+            a.findings["implausible-density"] = "info"
+
+
+_last: tuple[object, dict[int, LinkAnalysis]] | None = None
+
+
+def analyse(robot) -> dict[int, LinkAnalysis]:
+    """The analysis of every link of ``robot`` keyed by its index in ``robot.links`` (cached
+    for the last robot analysed, so that every rule of a check run shares it)."""
+    global _last
+    if _last is not None and _last[0] is robot:
+        return _last[1]
+    moving = _moving_links(robot)
+    result = {i: analyse_link(robot, link, link.name in moving)
+              for i, link in enumerate(robot.links)}
+    _last = (robot, result)
+    return result
+
+
+def derived_inertial(a: LinkAnalysis, mass: float | None = None,
+                     density: float | None = None) -> dict | None:
+    """The inertial the geometry implies: mass (given, or density x volume, or the declared
+    one), COM at the geometry's centroid, tensor about it in the link frame."""
+    if a.solid is None:
+        return None
+    if density is not None:
+        mass = density * a.solid.volume
+    if mass is None:
+        mass = a.mass
+    if mass is None or not math.isfinite(mass) or mass <= 0:
+        return None
+    tensor = a.solid.inertia(mass)
+    return {"mass": mass, "xyz": a.solid.centroid, "rpy": (0.0, 0.0, 0.0),
+            "ixx": tensor[0][0], "ixy": tensor[0][1], "ixz": tensor[0][2],
+            "iyy": tensor[1][1], "iyz": tensor[1][2], "izz": tensor[2][2],
+            "from": a.derived_from, "volume": a.solid.volume}
+
+
+class RigidBodies:
+    """Links grouped into rigid bodies (joined by fixed joints), with their masses."""
+
+    def __init__(self, robot):
+        self.robot = robot
+        self.parent: dict[str, object] = {}
+        self.children: dict[str, list] = {}
+        for joint in robot.joints:
+            if joint.child is not None and joint.child not in self.parent:
+                self.parent[joint.child] = joint
+            if joint.parent is not None:
+                self.children.setdefault(joint.parent, []).append(joint)
+        self.mass = {}
+        for link in robot.links:
+            m = link.inertial.mass if link.inertial is not None else None
+            if link.name is not None and m is not None and math.isfinite(m) and m > 0:
+                self.mass[link.name] = self.mass.get(link.name, 0.0) + m
+
+    def _descendants(self, name: str, fixed_only: bool) -> list[str]:
+        seen, stack = {name}, [name]
+        while stack:
+            for joint in self.children.get(stack.pop(), []):
+                if fixed_only and joint.moving:
+                    continue
+                if joint.child is not None and joint.child not in seen:
+                    seen.add(joint.child)
+                    stack.append(joint.child)
+        return list(seen)
+
+    def subtree_mass(self, name: str) -> float:
+        """Mass of a link and everything beyond it."""
+        return sum(self.mass.get(n, 0.0) for n in self._descendants(name, False))
+
+    def is_free_massless_base(self, name: str) -> bool:
+        """A root link whose rigid body (it and what is fixed to it) has no mass, while joints
+        move somewhere below it."""
+        if name in self.parent:
+            return False
+        body = self._descendants(name, True)
+        if sum(self.mass.get(n, 0.0) for n in body) > 0:
+            return False
+        below = self._descendants(name, False)
+        return any(j.moving for n in below for j in self.children.get(n, []))
+
+
+def _number(value: float) -> str:
+    text = f"{value:.6g}"
+    return "0" if text in ("-0", "0") else text
+
+
+def inertial_xml(block: dict, compact: bool = False, indent: str = "  ") -> str:
+    """An <inertial> element for a ``derived_inertial`` block (6 significant digits)."""
+    xyz = " ".join(_number(v) for v in block["xyz"])
+    rpy = " ".join(_number(v) for v in block["rpy"])
+    moments = " ".join(f'{k}="{_number(block[k])}"'
+                       for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
+    parts = [f'<origin xyz="{xyz}" rpy="{rpy}"/>', f'<mass value="{_number(block["mass"])}"/>',
+             f"<inertia {moments}/>"]
+    if compact:
+        return "<inertial>" + "".join(parts) + "</inertial>"
+    inner = "".join(f"\n{indent}{indent}{p}" for p in parts)
+    return f"{indent}<inertial>{inner}\n{indent}</inertial>"
