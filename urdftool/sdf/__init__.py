@@ -67,8 +67,6 @@ def convert_source(source, path: Path, text: str, options: ConvertOptions):
             raise ModelChoiceError(f"the included model '{name}' cannot be read")
     else:
         top = reader.read_model(element, doc)
-    if options.output_dir is None:
-        options.output_dir = Path(path).resolve().parent
     builder = Builder(source, reader, top, options)
     source.root = builder.build()
     return builder

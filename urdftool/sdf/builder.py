@@ -404,8 +404,9 @@ class Builder:
             if lower is not None and upper is not None:
                 image = sorted((lower * multiplier, upper * multiplier))
             follower = self.joint_name(joint.key, "__translation")
-            self.single(joint, follower, middle, child_name, IDENTITY, "prismatic", None, vector,
-                        mimic=(leader, multiplier, 0.0), bounds=image)
+            self.single(joint, follower, middle, child_name, IDENTITY, "prismatic", axis, vector,
+                        mimic=(leader, multiplier, 0.0), bounds=image or (None, None),
+                        dynamics=False)
             self.report("sdf.unsupported-joint",
                         f"screw joint '{name}' has no URDF equivalent: written as revolute "
                         f"'{leader}' and prismatic '{follower}' mimicking it "
@@ -425,9 +426,12 @@ class Builder:
         return name
 
     def single(self, joint: JointInfo, name: str, parent: str, child: str, origin: Transform,
-               kind: str, axis, vector, axis2: bool = False, mimic=None, bounds=None) -> None:
+               kind: str, axis, vector, axis2: bool = False, mimic=None, bounds=None,
+               dynamics: bool = True) -> None:
         element = joint.entity.element
         lower, upper, effort, velocity = self.limits(axis, kind)
+        if bounds is not None:
+            lower, upper = bounds
         if kind == "revolute" and (lower is None or upper is None):
             if (lower is None) != (upper is None):
                 self.report("sdf.not-in-urdf",
@@ -445,8 +449,6 @@ class Builder:
         self.sub(j, "axis", xyz if xyz is not None else axis, xyz=fmtv(vector))
         limit_element = axis.find("limit") if axis is not None else None
         if kind in ("revolute", "prismatic") or effort is not None or velocity is not None:
-            if kind == "prismatic" and bounds is not None:
-                lower, upper = bounds
             if kind == "prismatic" and (lower is None or upper is None):
                 lower = -UNBOUNDED if lower is None else lower
                 upper = UNBOUNDED if upper is None else upper
@@ -460,7 +462,7 @@ class Builder:
             if kind != "continuous":
                 attrs = {"lower": fmt(lower), "upper": fmt(upper), **attrs}
             self.sub(j, "limit", limit_element if limit_element is not None else element, **attrs)
-        if axis is not None:
+        if axis is not None and dynamics:
             self.dynamics(j, joint, axis)
         self.mimic(j, joint, axis, mimic)
 
@@ -861,13 +863,16 @@ class Builder:
                         hint="download it next to the model and use a relative path")
             return uri
         uri = uri.removeprefix("file://")
-        path = Path(uri) if os.path.isabs(uri) else base / uri
-        return self._relative(path)
+        if os.path.isabs(uri):
+            return uri  # kept as written, found or not
+        if self.options.output_dir is None:
+            return uri  # check: relative to the file it was written in, as the mesh rules read it
+        return self._relative(base / uri)
 
     def _relative(self, path: Path) -> str:
         target = self.options.output_dir
         if target is None:
-            return str(path)
+            return str(path.resolve() if path.exists() else path)
         try:
             return os.path.relpath(path.resolve() if path.exists() else path, target.resolve())
         except ValueError:
