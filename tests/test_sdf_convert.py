@@ -133,28 +133,28 @@ BAD = {
     "unknown_version": ('<sdf version="9.9"><model name="m"><link name="a"/></model></sdf>',
                         "sdf.version"),
     "no_version": ('<sdf><model name="m"><link name="a"/></model></sdf>', "sdf.version"),
-    "pose_cycle": ('<sdf version="1.8"><model name="m">'
+    "pose_cycle": (('<sdf version="1.8"><model name="m">'
                    '<link name="a"><pose relative_to="c">1 0 0 0 0 0</pose></link>'
                    '<link name="b"><pose relative_to="a">1 0 0 0 0 0</pose></link>'
                    '<frame name="c"><pose relative_to="b">1 0 0 0 0 0</pose></frame>'
-                   "</model></sdf>", "sdf.pose-cycle"),
-    "missing_link": ('<sdf version="1.7"><model name="m"><link name="a"/><link name="b"/>'
+                   "</model></sdf>"), "sdf.pose-cycle"),
+    "missing_link": (('<sdf version="1.7"><model name="m"><link name="a"/><link name="b"/>'
                      '<joint name="j" type="revolute"><parent>a</parent><child>c</child>'
-                     "</joint></model></sdf>", "sdf.missing-frame"),
-    "missing_relative_to": ('<sdf version="1.7"><model name="m"><link name="a">'
-                            '<pose relative_to="nowhere">0 0 1 0 0 0</pose></link></model></sdf>',
+                     "</joint></model></sdf>"), "sdf.missing-frame"),
+    "missing_relative_to": (('<sdf version="1.7"><model name="m"><link name="a">'
+                            '<pose relative_to="nowhere">0 0 1 0 0 0</pose></link></model></sdf>'),
                             "sdf.missing-frame"),
-    "attached_cycle": ('<sdf version="1.7"><model name="m"><link name="a"/>'
+    "attached_cycle": (('<sdf version="1.7"><model name="m"><link name="a"/>'
                        '<frame name="f" attached_to="g"/><frame name="g" attached_to="f"/>'
-                       "</model></sdf>", "sdf.pose-cycle"),
-    "bad_joint_type": ('<sdf version="1.7"><model name="m"><link name="a"/><link name="b"/>'
+                       "</model></sdf>"), "sdf.pose-cycle"),
+    "bad_joint_type": (('<sdf version="1.7"><model name="m"><link name="a"/><link name="b"/>'
                        '<joint name="j" type="revolut"><parent>a</parent><child>b</child>'
-                       "</joint></model></sdf>", "sdf.bad-value"),
+                       "</joint></model></sdf>"), "sdf.bad-value"),
     "not_xml": ('<sdf version="1.7"><model name="m"><link name="a"></model></sdf>', "xml."),
-    "bad_pose": ('<sdf version="1.7"><model name="m"><link name="a"><pose>1 2 x 0 0 0</pose>'
-                 "</link></model></sdf>", "sdf.bad-value"),
-    "include_missing": ('<sdf version="1.7"><model name="m"><link name="a"/><include>'
-                        "<uri>https://fuel.example.org/models/x</uri></include></model></sdf>",
+    "bad_pose": (('<sdf version="1.7"><model name="m"><link name="a"><pose>1 2 x 0 0 0</pose>'
+                 "</link></model></sdf>"), "sdf.bad-value"),
+    "include_missing": (('<sdf version="1.7"><model name="m"><link name="a"/><include>'
+                        "<uri>https://fuel.example.org/models/x</uri></include></model></sdf>"),
                         "sdf.include"),
 }
 

@@ -227,7 +227,7 @@ def test_gearbox_becomes_mimic(tmp_path):
 
 
 def test_include_with_model_path_and_env(tmp_path, monkeypatch):
-    out, err = convert(tmp_path, "with_include.sdf", "--model-path", str(DATA / "models"))
+    out, _err = convert(tmp_path, "with_include.sdf", "--model-path", str(DATA / "models"))
     urdf = Urdf(out)
     for q in sweep():
         urdf.set({"left_axle": q[0], "right_axle": q[1]})
