@@ -272,7 +272,7 @@ def _judge(a: LinkAnalysis) -> None:
     positive = [r for r in a.ratios if r > 0]
     uniform = len(positive) == 3 and max(positive) / min(positive) < 3.0
     for slip in UNIT_SLIPS:
-        if uniform and slip / UNIT_BAND <= ratio <= slip * UNIT_BAND and (
+        if uniform and not is_placeholder(a.declared) and slip / UNIT_BAND <= ratio <= slip * UNIT_BAND and (
                 slip < 1 or "exceeds-geometry" in a.findings):
             a.unit_slip = slip
             a.findings["unit-scale"] = "warning"
@@ -301,6 +301,17 @@ def _judge(a: LinkAnalysis) -> None:
         too_dense = largest > 0 and m / largest > DENSITY_HIGH
         if too_light or too_dense:
             a.findings["implausible-density"] = "info"
+
+
+def is_placeholder(tensor: Mat3) -> bool:
+    """ixx = iyy = izz = a power of ten and no products: a value typed in, not computed."""
+    d = phys.diag(tensor)
+    if d[0] <= 0 or d[0] != d[1] or d[1] != d[2]:
+        return False
+    if any(tensor[i][j] != 0 for i in range(3) for j in range(3) if i != j):
+        return False
+    exponent = math.log10(d[0])
+    return abs(exponent - round(exponent)) < 1e-9
 
 
 _last: tuple[object, dict[int, LinkAnalysis]] | None = None

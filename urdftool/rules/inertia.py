@@ -253,7 +253,9 @@ def exceeds_geometry(robot):
         yield Finding(f"link '{a.link.name}': moment {_g(b.moment)} kg·m² about the "
                       f"{axis} through the COM is {b.ratio:.3g}x the most {m:g} kg can have "
                       f"within its visual and collision geometry ({m:g} kg × "
-                      f"({_g(b.reach)} m)² = {_g(b.bound)} kg·m²)", _inertia_loc(a.link),
+                      f"({_g(b.reach)} m)² = {_g(b.bound)} kg·m²)"
+                      + (f"; ixx = iyy = izz = {a.declared[0][0]:g} looks like a placeholder"
+                         if analysis.is_placeholder(a.declared) else ""), _inertia_loc(a.link),
                       hint=_block_hint(a), severity=a.findings["exceeds-geometry"])
 
 
@@ -305,7 +307,8 @@ _SLIPS = {
       doc="""All three declared moments differ from what the geometry gives for the
 declared mass by the same power of a thousand: grams for kilograms, millimetres for metres
 (kg·mm² is a million times kg·m²). CAD tools export in their document units and the numbers
-get pasted as they are. Reported when the ratio is within a factor √10 of 10³ or 10⁶ (or
+get pasted as they are. Round placeholders (ixx = iyy = izz = 1, 0.001...) are not called a
+slip. Reported when the ratio is within a factor √10 of 10³ or 10⁶ (or
 their inverses) on every axis alike; a ratio above 1 must also break the geometry bound
 (`inertia.exceeds-geometry`), so a large but possible inertia is not called a slip.""",
       bad=_robot(_link("box", "1", ("0.41", "0.41", "0.41"),
