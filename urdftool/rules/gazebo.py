@@ -186,7 +186,11 @@ def unknown_material(robot: Robot):
             name = _text(node)
             if not name.startswith("Gazebo/") or name in known:
                 continue
-            close = lowered.get(name.lower()) or _suggest(name, sorted(known))
+            suffixes = {known_name[len("Gazebo/"):]: known_name for known_name in known}
+            close = lowered.get(name.lower())
+            if close is None:
+                match = _suggest(name[len("Gazebo/"):], sorted(suffixes))
+                close = suffixes[match] if match else None
             if close:
                 yield Finding(f"Gazebo material '{name}' does not exist; did you mean '{close}'?",
                               robot.loc(node), hint=f"<material>{close}</material>")

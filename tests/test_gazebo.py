@@ -1,0 +1,144 @@
+"""The `gazebo` rules, on small robots and on the m2wr seed: its diff-drive plugin's
+wheelSeparation (0.2) disagrees with the wheel joints (0.3 m apart), and its left wheel joint
+sits on the robot's right side."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from urdftool.check import CheckOptions, check_file
+from urdftool.rules.gazebo import gazebo_materials
+
+ROOT = Path(__file__).resolve().parent.parent
+M2WR = ROOT / "robots" / "m2wr"
+
+BASE = """<robot name="r">
+  <link name="base"/>
+  <link name="wl"><collision><geometry><cylinder radius="0.05" length="0.02"/></geometry>
+    </collision></link>
+  <link name="wr"><collision><geometry><cylinder radius="0.05" length="0.02"/></geometry>
+    </collision></link>
+  <joint name="left" type="continuous"><parent link="base"/><child link="wl"/>
+    <origin xyz="0 0.1 0" rpy="-1.5708 0 0"/><axis xyz="0 0 1"/></joint>
+  <joint name="right" type="continuous"><parent link="base"/><child link="wr"/>
+    <origin xyz="0 -0.1 0" rpy="-1.5708 0 0"/><axis xyz="0 0 1"/></joint>
+"""
+
+
+def found(write, text: str, name="robot.urdf"):
+    report = check_file(write(text, name), CheckOptions(select=["gazebo"]))
+    return report.diagnostics
+
+
+def test_references_to_links_and_joints(write):
+    text = BASE + ('  <gazebo reference="wl"><mu1>1</mu1></gazebo>\n'
+                   '  <gazebo reference="left"><provideFeedback>true</provideFeedback></gazebo>\n'
+                   '  <gazebo reference="wll"><mu1>1</mu1></gazebo>\n'
+                   "  <gazebo><static>false</static></gazebo>\n</robot>\n")
+    diagnostics = found(write, text)
+    assert [(d.rule, d.severity, d.line) for d in diagnostics] == \
+        [("gazebo.unknown-reference", "warning", 13)]
+    assert "did you mean 'wl'" in diagnostics[0].hint
+
+
+def test_plugin_joint_and_link_parameters(write):
+    text = BASE + """  <gazebo>
+    <plugin name="jsp" filename="libgazebo_ros_joint_state_publisher.so">
+      <jointName>left, rigth</jointName></plugin>
+    <plugin name="p3d" filename="libgazebo_ros_p3d.so"><bodyName>left</bodyName></plugin>
+    <plugin name="ros2" filename="libgazebo_ros_joint_state_publisher.so">
+      <joint_name>wl</joint_name><joint_name>right</joint_name></plugin>
+    <plugin name="gz" filename="gz-sim-diff-drive-system">
+      <left_joint>left</left_joint><right_joint>right</right_joint>
+      <wheel_separation>0.2</wheel_separation><wheel_radius>0.05</wheel_radius></plugin>
+  </gazebo>
+</robot>
+"""
+    diagnostics = found(write, text)
+    assert [(d.rule, d.line) for d in diagnostics] == [
+        ("gazebo.plugin-unknown-joint", 13), ("gazebo.plugin-unknown-link", 14),
+        ("gazebo.plugin-unknown-joint", 16)]
+    assert "'rigth'" in diagnostics[0].message and "'right'" in diagnostics[0].hint
+    assert "a joint, not a link" in diagnostics[1].message and "'wl'" in diagnostics[1].hint
+    assert "a link, not a joint" in diagnostics[2].message and "'left'" in diagnostics[2].hint
+
+
+def diff_drive(separation="0.2", diameter="0.1", left="left", right="right") -> str:
+    return (f'  <gazebo><plugin name="dd" filename="libgazebo_ros_diff_drive.so">\n'
+            f"    <leftJoint>{left}</leftJoint><rightJoint>{right}</rightJoint>\n"
+            f"    <wheelSeparation>{separation}</wheelSeparation>\n"
+            f"    <wheelDiameter>{diameter}</wheelDiameter>\n"
+            f"    <robotBaseFrame>base</robotBaseFrame></plugin></gazebo>\n</robot>\n")
+
+
+def test_drive_geometry_agrees(write):
+    assert found(write, BASE + diff_drive()) == []
+
+
+def test_drive_geometry_separation_diameter_and_sides(write):
+    diagnostics = found(write, BASE + diff_drive("0.35", "0.2", "right", "left"))
+    assert [(d.rule, d.line) for d in diagnostics] == [("gazebo.drive-geometry", 12),
+                                                       ("gazebo.drive-geometry", 13),
+                                                       ("gazebo.drive-geometry", 14)]
+    sides, separation, diameter = diagnostics
+    assert "right side" in sides.message
+    assert "0.2 m apart" in separation.message and "<wheelSeparation>0.2<" in separation.hint
+    assert "radius 0.05" in diameter.message and "<wheelDiameter>0.1<" in diameter.hint
+
+
+def test_drive_geometry_through_a_base_footprint_and_rotated_frames(write):
+    # the wheels hang off a rotated intermediate link; robotBaseFrame is base
+    text = BASE.replace('<link name="base"/>', '<link name="base"/><link name="mid"/>').replace(
+        '<parent link="base"/><child link="wl"/>', '<parent link="mid"/><child link="wl"/>'
+    ).replace('<parent link="base"/><child link="wr"/>', '<parent link="mid"/><child link="wr"/>'
+              ).replace('xyz="0 0.1 0"', 'xyz="0.1 0 0"').replace('xyz="0 -0.1 0"',
+                                                                 'xyz="-0.1 0 0"')
+    text += ('  <joint name="m" type="fixed"><parent link="base"/><child link="mid"/>\n'
+             '    <origin rpy="0 0 1.5707963267948966"/></joint>\n')
+    assert found(write, text + diff_drive()) == []
+
+
+def test_gazebo_materials(write):
+    text = BASE + ('  <gazebo reference="wl"><material>Gazebo/Gray</material></gazebo>\n'
+                   '  <gazebo reference="wr"><material>Gazebo/orange</material></gazebo>\n'
+                   '  <gazebo reference="base"><material>Gazebo/Zzzzzz</material></gazebo>\n'
+                   '  <gazebo reference="left"><material>MyRobot/Skin</material></gazebo>\n'
+                   "</robot>\n")
+    diagnostics = found(write, text)
+    assert [(d.rule, d.severity, d.line) for d in diagnostics] == [
+        ("gazebo.unknown-material", "warning", 11), ("gazebo.unknown-material", "warning", 12),
+        ("gazebo.unknown-material", "info", 13)]
+    assert "'Gazebo/Grey'" in diagnostics[0].message
+    assert "'Gazebo/Orange'" in diagnostics[1].message
+
+
+def test_material_list_is_packaged():
+    names = gazebo_materials()
+    assert {"Gazebo/Orange", "Gazebo/Blue", "Gazebo/FlatBlack", "Gazebo/Grey"} <= names
+    assert all(name.startswith("Gazebo/") for name in names)
+
+
+def _seed(kind: str) -> Path:
+    path = M2WR / kind / "m2wr.xacro"
+    if not path.exists():
+        pytest.skip("robots/m2wr not transcribed yet")
+    return path
+
+
+def test_m2wr_published_diff_drive():
+    path = _seed("published")
+    diagnostics = check_file(path, CheckOptions(select=["gazebo"])).diagnostics
+    lines = path.read_text().splitlines()
+    left = next(i for i, line in enumerate(lines, 1) if "<leftJoint>" in line)
+    separation = next(i for i, line in enumerate(lines, 1) if "<wheelSeparation>" in line)
+    assert [(d.rule, d.line) for d in diagnostics] == [("gazebo.drive-geometry", left),
+                                                       ("gazebo.drive-geometry", separation)]
+    assert "right side" in diagnostics[0].message
+    assert "is 0.2 but" in diagnostics[1].message and "0.3 m apart" in diagnostics[1].message
+
+
+def test_m2wr_corrected_is_clean():
+    path = _seed("corrected")
+    assert check_file(path, CheckOptions(select=["gazebo"])).diagnostics == []
