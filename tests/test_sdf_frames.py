@@ -268,3 +268,23 @@ def test_pose_formats_and_mimic(tmp_path):
     # SDF: follower = 2 (leader - 0.05) + 0.1; URDF: follower = 2 leader + 0.0
     assert '<mimic joint="ja" multiplier="2.0" offset="0.0"/>' in text
     assert "sdf.default-inertial" in err  # link b: SDF's mass 1 written out
+
+
+def test_placement_frame_merge_include_world_joint(tmp_path):
+    urdf_path, _ = convert(tmp_path, "composition.sdf", "--model-path", str(DATA / "models"))
+    urdf = Urdf(urdf_path)
+    world_base = T(0, 0, 1)  # the model's pose, kept because 'anchor' fixes it to the world
+    grip_in_tool = T(0, 0, 0.2) @ T(0, 0, 0.1)
+    tool = T(1, 0, 0) @ np.linalg.inv(grip_in_tool)  # the pose places the grip frame
+    for q in sweep(size=1):
+        urdf.set({"axle": float(q[0])})
+        world = urdf.frame("world")
+        check_pose(np.linalg.inv(world) @ urdf.frame("base"), world_base)
+        check_pose(np.linalg.inv(world) @ urdf.frame("tool__body"),
+                   world_base @ tool @ T(0, 0, 0.2))
+        check_pose(np.linalg.inv(world) @ urdf.frame("tool__grip"), world_base @ T(1, 0, 0))
+        # merged include: 'tyre' keeps its own name, placed by the include's pose
+        check_pose(np.linalg.inv(world) @ urdf.frame("tyre"),
+                   world_base @ T(0, 1, 0) @ T(0, 0, 0, HALF_PI, 0, 0) @ R([0, 0, 1], q[0]))
+        # a frame attached to __model__ hangs on the canonical link
+        check_pose(np.linalg.inv(world) @ urdf.frame("marker"), world_base @ T(0.5, 0.5, 0))

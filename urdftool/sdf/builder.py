@@ -822,7 +822,7 @@ class Builder:
     def add_name_comment(self) -> None:
         lines = []
         for key, name in self.names.items():
-            if key != name:
+            if key != name and key != WORLD:
                 lines.append(f"  link '{key}' -> '{name}'")
         for key, name in self.joint_names.items():
             if key != name and "::" in key:
