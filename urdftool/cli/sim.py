@@ -1,14 +1,182 @@
-"""`urdftool sim`: placeholder until its issue lands."""
+"""`urdftool sim PATH...`: a short PyBullet physics smoke test per model, with a verdict."""
 
 from __future__ import annotations
 
+import json
+import time
+
 import click
 
+from urdftool.cli import format_option, package_option, parse_packages, split_args
 
-@click.command("sim", context_settings={"ignore_unknown_options": True})
-@click.argument("args", nargs=-1)
-def command(args):
-    """Not implemented yet."""
+
+def _size(value: str) -> tuple[int, int]:
     from urdftool.errors import ToolError
 
-    raise ToolError("'sim' is not implemented yet")
+    width, sep, height = value.lower().partition("x")
+    try:
+        size = (int(width), int(height))
+    except ValueError:
+        size = (0, 0)
+    if not sep or not (16 <= size[0] <= 4096 and 16 <= size[1] <= 4096):
+        raise ToolError(f"--size expects WIDTHxHEIGHT (16..4096 pixels), got {value!r}")
+    return size
+
+
+def _pairs(values: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
+    from urdftool.errors import ToolError
+
+    pairs = []
+    for value in values:
+        for item in value.split(","):
+            a, sep, b = item.strip().partition(":")
+            if not sep or not a or not b:
+                raise ToolError(f"--allow-collision expects LINK_A:LINK_B, got {item!r}")
+            pairs.append((a, b))
+    return tuple(pairs)
+
+
+@click.command("sim")
+@click.argument("inputs", nargs=-1, required=True, metavar="PATH... [NAME:=VALUE...]")
+@click.option("--duration", type=click.FloatRange(min=0, min_open=True, max=600), default=1.0,
+              show_default=True, help="Simulated seconds.")
+@click.option("--rate", type=click.FloatRange(min=10, max=10000), default=240.0,
+              show_default=True, help="Simulation steps per second.")
+@click.option("--fixed-base/--free", "fixed_base", default=None,
+              help="Fix the base in place, or let it fall (even when the root link is "
+                   "'world'). Default: fixed when the root link is 'world'.")
+@click.option("--allow-collision", multiple=True, metavar="A:B",
+              help="Links A and B may overlap at the home pose (SRDF-style). Repeatable.")
+@click.option("--srdf", type=click.Path(exists=True, dir_okay=False), metavar="FILE",
+              help="Allow the pairs in this SRDF's <disable_collisions>. Default: NAME.srdf "
+                   "beside the model or in a srdf/ folder next to it, if there is one.")
+@click.option("--no-srdf", is_flag=True, help="Do not look for an SRDF.")
+@click.option("--strict-collision", is_flag=True,
+              help="Also fail on overlaps between a link and its ancestors two or more joints "
+                   "up (by default reported but not counted, as PyBullet's "
+                   "URDF_USE_SELF_COLLISION_EXCLUDE_ALL_PARENTS ignores them).")
+@click.option("--repaired", is_flag=True,
+              help="Simulate the XML as urdftool repairs it in memory, past the XML errors "
+                   "that keep PyBullet from loading the file as written.")
+@click.option("--render", type=click.Path(), metavar="PNG",
+              help="Write a picture of each model at rest (and NAME-collision.png of its "
+                   "collision geometry). Several models, or a directory: one picture per model.")
+@click.option("--size", default="640x480", show_default=True, metavar="WxH",
+              help="Picture size in pixels.")
+@click.option("-j", "--jobs", type=click.IntRange(min=1, max=256), default=1, show_default=True,
+              help="Models simulated in parallel processes.")
+@format_option("text", "json")
+@package_option
+def command(inputs, duration, rate, fixed_base, allow_collision, srdf, no_srdf,
+            strict_collision, repaired, render, size, jobs, fmt, packages):
+    """Drop each model into PyBullet (headless) and judge what happens.
+
+    \b
+    Setup: DIRECT mode, 240 Hz, gravity, a ground plane, inertia from the file; the base fixed
+    when the root link is 'world' (or zero-mass), otherwise dropped from just above its lowest
+    point; joints held at the home pose (zero clamped into the limits) by position control
+    with the URDF's effort limits.
+
+    \b
+    Checks (each a sim.* result with its numbers): load, mass, self-collision (at the home
+    pose), nan, explosion, joint-limits, hold (the home pose, with the joints that saturate
+    their effort), settle, sink and drift (free models only).
+    Exit code 0: every model passed; 1: a check failed or a model did not load; 2: could not
+    run.
+    """
+    from urdftool.errors import ToolError
+    from urdftool.sim import SimOptions, simulate
+
+    paths, xacro_args = split_args(inputs)
+    if not paths:
+        raise ToolError("sim needs at least one PATH")
+    options = SimOptions(duration=duration, rate=rate, fixed_base=fixed_base,
+                         allow_collision=_pairs(allow_collision),
+                         srdf=False if no_srdf else srdf, strict_collision=strict_collision,
+                         repaired=repaired, render=render,
+                         size=_size(size), jobs=jobs, packages=parse_packages(packages),
+                         xacro_args=xacro_args)
+    started = time.perf_counter()
+    results = simulate(paths, options)
+    wall = time.perf_counter() - started
+    if fmt == "json":
+        click.echo(json.dumps(report_json(results, options, wall), indent=2))
+    else:
+        print_text(results, wall)
+    failed = any(r.verdict == "fail" for r in results)
+    raise click.exceptions.Exit(1 if failed else 0)
+
+
+def report_json(results, options, wall: float) -> dict:
+    from urdftool import __version__
+
+    return {
+        "tool": "urdftool", "version": __version__, "command": "sim",
+        "settings": {"duration_s": options.duration, "rate_hz": options.rate,
+                     "fixed_base": options.fixed_base, "jobs": options.jobs,
+                     "allow_collision": [list(p) for p in options.allow_collision],
+                     "thresholds": vars(options.thresholds)},
+        "models": [r.to_json() for r in results],
+        "summary": {"models": len(results),
+                    "passed": sum(r.verdict == "pass" for r in results),
+                    "failed": sum(r.verdict == "fail" for r in results),
+                    "skipped": sum(r.verdict == "skip" for r in results),
+                    "wall_s": wall},
+    }
+
+
+def _short(check) -> str:
+    name = check.check.removeprefix("sim.")
+    return f"[red]{name}[/]"
+
+
+def print_text(results, wall: float) -> None:
+    from rich.markup import escape
+    from rich.table import Table
+
+    from urdftool.cli import stdout_console
+
+    console = stdout_console()
+    table = Table(show_edge=False, pad_edge=False, header_style="bold")
+    table.add_column("model", overflow="fold")
+    table.add_column("verdict")
+    table.add_column("failed checks", overflow="fold")
+    table.add_column("time", justify="right")
+    for result in results:
+        name = escape(result.path)
+        if result.robot:
+            name += f" [dim]({escape(result.robot)})[/]"
+        verdict = {"pass": "[green]pass[/]", "fail": "[bold red]FAIL[/]",
+                   "skip": "[dim]skip[/]"}[result.verdict]
+        failed = ", ".join(_short(c) for c in result.failures()) or (
+            escape(result.skipped) if result.skipped else "")
+        timing = result.timing
+        taken = f"{timing.get('total', 0):.2f} s"
+        if "load" in timing:
+            taken += f" [dim](load {timing['load']:.2f})[/]"
+        table.add_row(name, verdict, failed, taken)
+    console.print(table)
+    for result in results:
+        if result.verdict != "fail" and not result.images:
+            continue
+        console.print()
+        head = f"[bold]{escape(result.path)}[/]"
+        if result.anchored is not None:
+            head += " [dim]" + (f"anchored: {escape(result.anchor_reason or '')}"
+                                if result.anchored else "free, dropped onto the ground") + "[/]"
+        if result.real_time_factor:
+            head += f" [dim]real-time factor {result.real_time_factor:.0f}x[/]"
+        console.print(head)
+        for check in result.failures():
+            console.print(f"  [red]{check.check}[/]: {escape(check.message)}")
+        for note in result.notes:
+            console.print(f"  [dim]note: {escape(note)}[/]")
+        for image in result.images:
+            console.print(f"  picture: {escape(image)}")
+    passed = sum(r.verdict == "pass" for r in results)
+    failed = sum(r.verdict == "fail" for r in results)
+    skipped = sum(r.verdict == "skip" for r in results)
+    console.print()
+    console.print(f"{len(results)} model(s): [green]{passed} passed[/], "
+                  f"{'[red]' if failed else ''}{failed} failed{'[/]' if failed else ''}"
+                  + (f", {skipped} skipped" if skipped else "") + f" in {wall:.2f} s")

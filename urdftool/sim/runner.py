@@ -1,0 +1,114 @@
+"""Worker processes for ``urdftool sim``: each model runs in a child process.
+
+Two reasons besides ``-j N``: PyBullet writes from C to file descriptor 1 (a worker's fds 1 and
+2 point at /dev/null, so nothing reaches our stdout or a JSON report), and PyBullet crashes on
+some broken models (a segmentation fault takes only the worker down; the model is re-run alone
+to find which one it was, and that one fails its load check).
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import re
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
+from pathlib import Path
+
+from urdftool.errors import ToolError
+from urdftool.sim import CHECKS, CheckResult, ModelResult, SimOptions
+
+
+def _init_worker() -> None:
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, 1)
+    os.dup2(devnull, 2)
+    os.close(devnull)
+    from urdftool.sim.capture import captured_fds
+
+    with captured_fds():
+        import pybullet  # noqa: F401 - the banner goes to the capture
+        import pybullet_data  # noqa: F401
+
+
+def _work(path: str, options: SimOptions, from_directory: bool) -> ModelResult:
+    from urdftool.sim.engine import run_model
+
+    return run_model(path, options, from_directory)
+
+
+def _context():
+    methods = multiprocessing.get_all_start_methods()
+    return multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+
+
+# includes, old unprefixed ones too (a directory's fragments are not robots of their own)
+_INCLUDE_RE = re.compile(r"<(?:xacro:)?include\s[^>]*filename\s*=\s*[\"']([^\"']+)[\"']")
+
+
+def model_files(paths: list[str]) -> list[tuple[str, bool]]:
+    """(file, found in a directory) for every robot file under ``paths``, found like ``check``
+    does; in a directory, xacro files that another one includes are left out."""
+    from urdftool.source import discover
+
+    files: list[tuple[str, bool]] = []
+    for raw in paths:
+        found = discover([raw])
+        if Path(raw).is_dir():
+            included: set[str] = set()
+            for candidate in found:
+                if candidate.suffix == ".xacro":
+                    try:
+                        text = candidate.read_text(encoding="utf-8", errors="replace")
+                    except OSError:
+                        continue
+                    included.update(Path(m).name for m in _INCLUDE_RE.findall(text))
+            found = [f for f in found if not (f.suffix == ".xacro" and f.name in included)]
+        files.extend((str(f), Path(raw).is_dir()) for f in found)
+    if not files:
+        raise ToolError("no robot files (*.urdf, *.xacro, *.sdf) found in " + ", ".join(paths))
+    return files
+
+
+def _crashed(path: str, code: str) -> ModelResult:
+    result = ModelResult(path=path)
+    result.checks.append(CheckResult("sim.load", "fail", f"PyBullet crashed on this model ({code})"))
+    result.checks.extend(CheckResult(f"sim.{name}", "skip", "the model did not load")
+                         for name in CHECKS if name != "load")
+    return result
+
+
+def run_all(paths: list[str], options: SimOptions) -> list[ModelResult]:
+    files = model_files(paths)
+    require_pybullet()
+    results: list[ModelResult | None] = [None] * len(files)
+    jobs = max(1, min(options.jobs, len(files)))
+    context = _context()
+    try:
+        with ProcessPoolExecutor(jobs, mp_context=context, initializer=_init_worker) as pool:
+            futures = {pool.submit(_work, path, options, from_directory): index
+                       for index, (path, from_directory) in enumerate(files)}
+            for future in as_completed(futures):
+                try:
+                    results[futures[future]] = future.result()
+                except BrokenProcessPool:
+                    continue
+    except BrokenProcessPool:
+        pass
+    for index, result in enumerate(results):  # after a crash: each unfinished model alone
+        if result is None:
+            path, from_directory = files[index]
+            with ProcessPoolExecutor(1, mp_context=context, initializer=_init_worker) as pool:
+                try:
+                    results[index] = pool.submit(_work, path, options, from_directory).result()
+                except BrokenProcessPool:
+                    results[index] = _crashed(path, "the worker process died")
+    return [r for r in results if r is not None]
+
+
+def require_pybullet() -> None:
+    """A ToolError (exit 2) naming the extra when pybullet is not installed."""
+    import importlib.util
+
+    if importlib.util.find_spec("pybullet") is None:
+        raise ToolError("'sim' needs the 'pybullet' module: pip install 'urdftool[sim]'")
