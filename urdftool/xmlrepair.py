@@ -35,7 +35,9 @@ from urdftool.report import Finding
 MAX_REPAIRS = 200  # recognised breakages per file; then stop and let the parser speak
 MAX_ROUNDS = 8  # scan -> edit -> strict parse rounds
 
-_DECL_RE = re.compile(r"^\s*<\?xml\s+version\s*=\s*([\"'])([^\"']*)\1")
+_GOOD_DECL_RE = re.compile(
+    r"""<\?xml\s+version\s*=\s*(["'])([^"'\n<>?]*)\1(?:\s+encoding\s*=\s*(["'])[A-Za-z][-\w.]*\3)?"""
+    r"""(?:\s+standalone\s*=\s*(["'])(?:yes|no)\4)?\s*\?>""")
 _ENCODING_DECL_RE = re.compile(r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2")
 _NAME_RE = re.compile(r"[^\W\d][-\w.:]*")
 _SPACE = " \t\r\n"
@@ -120,17 +122,39 @@ def _strict_parse(text: str):
         return None, exc
 
 
-def _fix_declaration(text: str, path: str, problems: list) -> str:
-    match = _DECL_RE.match(text)
-    if match and match.group(2) != "1.0":
-        line = text.count("\n", 0, match.start(2)) + 1
-        column = match.start(2) - (text.rfind("\n", 0, match.start(2)) + 1) + 1
+def _fix_declaration(text: str, path: str, problems: list) -> tuple[str, dict]:
+    """Repair the XML declaration at the start of the file (version other than 1.0, or damaged);
+    returns the text and the column shifts of the edit (see ``_apply``)."""
+    head = len(text) - len(text.lstrip())
+    if not text.startswith("<?", head):
+        return text, {}
+    line_end = text.find("\n", head)
+    first = text[head:line_end if line_end >= 0 else len(text)]
+    target = re.match(r"<\?([^\s?>]*)", first).group(1)
+    if target.lower() != "xml" and ("version" not in first or _NAME_RE.fullmatch(target)
+                                    and _similar(target, "xml") < 0.6):
+        return text, {}  # another processing instruction
+    line = text.count("\n", 0, head) + 1
+    good = _GOOD_DECL_RE.match(text, head)
+    if good is None:
+        question, gt = first.find("?>"), first.find(">")
+        end = head + (question + 2 if question >= 0 else gt + 1 if gt >= 0 else len(first.rstrip()))
+        encoding = re.search(r"encoding\s*=\s*[\"']([A-Za-z][-\w.]*)[\"']", text[head:end])
+        fixed = '<?xml version="1.0"' + (f' encoding="{encoding.group(1)}"' if encoding else "") + "?>"
         problems.append(("xml.declaration", Finding(
-            f"XML declaration says version \"{match.group(2)}\"; only 1.0 is valid "
-            "(robot tools accept it, strict XML parsers do not)",
-            Loc(path, line, column), hint='write <?xml version="1.0"?>')))
-        text = text[:match.start(2)] + "1.0" + text[match.end(2):]
-    return text
+            f"the XML declaration '{_short(text[head:end])}' is malformed (robot tools skip it, "
+            "strict XML parsers reject the file)", Loc(path, line, 1), hint=f"write {fixed}")))
+        return _apply(text, [(head, end, fixed, 0)])
+    version = good.group(2)
+    if version == "1.0":
+        return text, {}
+    start = good.start(2)
+    problems.append(("xml.declaration", Finding(
+        f"XML declaration says version \"{version}\"; only 1.0 is valid "
+        "(robot tools accept it, strict XML parsers do not)",
+        Loc(path, line, start - (text.rfind("\n", 0, start) + 1) + 1),
+        hint='write <?xml version="1.0"?>')))
+    return _apply(text, [(start, good.end(2), "1.0", 0)])
 
 
 def _blank(text: str) -> str:
@@ -192,6 +216,7 @@ class _Open:
     children: list = field(default_factory=list)  # (name, start offset)
     first_text: tuple[int, int] | None = None  # non-blank text before the first child
     reopened: bool = False
+    gt_inserted: bool = False  # its '>' is a repair (so there is no '>' at tag_end - 1)
 
 
 class _Scanner:
@@ -210,6 +235,8 @@ class _Scanner:
         self.entities_declared = "<!ENTITY" in text
         self.undeclared: set[str] = set()
         self.stopped = False
+        self.gt_inserted = False
+        self.no_comment_end = False
         self._line_starts: list[int] | None = None
 
     # -- helpers --------------------------------------------------------------------------
@@ -220,10 +247,10 @@ class _Scanner:
 
     def edit(self, start: int, end: int, replacement: str, first: bool = False,
              opening: bool = False) -> None:
-        """Replace text[start:end]. Of several insertions at one offset, ``first`` ones (end
-        tags closing an element) go first, then ``opening`` ones (a start tag's '<'), then the
-        others; each group in the order made."""
-        self.edits.append((start, end, replacement, 0 if first else 1 if opening else 2))
+        """Replace text[start:end]. Of several insertions at one offset, those that finish the
+        current token (a quote, a '>') go first, then ``first`` ones (end tags closing an
+        element), then ``opening`` ones (a start tag's '<'); each group in the order made."""
+        self.edits.append((start, end, replacement, 1 if first else 2 if opening else 0))
 
     def report(self, rule: str, message: str, offset: int, hint: str | None = None,
                anchor: tuple[int, str] | None = None, severity: str | None = None) -> None:
@@ -276,6 +303,15 @@ class _Scanner:
                 return self.n
             return k + 3
         if t.startswith("<!", j):
+            line_end = t.find("\n", j)
+            close = t.find("-->", j, line_end if line_end >= 0 else self.n)
+            if close >= 0 and not t.startswith(("<!DOCTYPE", "<!doctype"), j):
+                opener = re.compile(r"<![^\s\w]*").match(t, j).end()  # '<!-', '<!"-'...
+                self.report("xml.bad-comment", "a comment must start with <!--", j,
+                            hint="write <!--")
+                self.edit(j, opener, "<!--")
+                self.check_comment_body(j, opener, close)
+                return close + 3
             return self.doctype(j)
         if t.startswith("<?", j):
             return self.processing_instruction(j)
@@ -303,24 +339,50 @@ class _Scanner:
     # -- comments, declarations, doctype --------------------------------------------------
     def comment(self, j: int) -> int:
         t = self.t
-        end = t.find("-->", j + 4)
+        end = -1 if self.no_comment_end else t.find("-->", j + 4)
         if end < 0:
-            gt = t.find(">", j + 4)
-            self.report("xml.bad-comment", "this comment is never closed", j,
-                        hint="end the comment with -->")
-            if gt < 0:
-                self.edit(self.n, self.n, " -->")
-                return self.n
-            if t[gt - 1] == "-" and t[gt - 2] != "-":
-                self.edit(gt, gt, "-")  # '->' becomes '-->'
-                body_end = gt - 1
-            else:
-                self.edit(gt, gt, " --")
-                body_end = gt
-            self.check_comment_body(j, j + 4, body_end)
-            return gt + 1
+            self.no_comment_end = True  # never search to the end of the file twice
+            return self.unterminated_comment(j, self.n)
+        inner = t.find("<!--", j + 4, end)
+        if inner >= 0:  # lost its end: the next comment's '-->' would swallow what is between
+            return self.unterminated_comment(j, inner)
         self.check_comment_body(j, j + 4, end)
         return end + 3
+
+    def unterminated_comment(self, j: int, limit: int) -> int:
+        """A comment with no '-->' before ``limit``: end it where it most likely ended."""
+        t = self.t
+        self.report("xml.bad-comment", "this comment is never closed", j,
+                    hint="end the comment with -->")
+        line_end = t.find("\n", j, limit)
+        first = t[j + 4:line_end if line_end >= 0 else limit].rstrip()
+        at = j + 4 + len(first)
+        if first.endswith("--"):  # '<!-- text --' lost its '>'
+            self.edit(at, at, ">")
+            self.check_comment_body(j, j + 4, at - 2)
+            return at
+        if first.endswith("-"):  # '<!-- text -' or '<!-- text ->'
+            self.edit(at, at, "->")
+            self.check_comment_body(j, j + 4, at - 1)
+            return at
+        after = t[line_end:limit].lstrip() if line_end >= 0 else ""
+        if first.strip() and after.startswith("<"):  # a one-line comment; markup follows
+            self.edit(at, at, " -->")
+            self.check_comment_body(j, j + 4, at)
+            return at
+        gt = t.find(">", j + 4, limit)
+        if gt >= 0:
+            if t[gt - 1] == "-":
+                self.edit(gt, gt, "-")  # '->' becomes '-->'
+                self.check_comment_body(j, j + 4, gt - 1)
+            else:
+                self.edit(gt, gt, " --")
+                self.check_comment_body(j, j + 4, gt)
+            return gt + 1
+        at = j + 4 + len(t[j + 4:limit].rstrip())
+        self.edit(at, at, " -->")
+        self.check_comment_body(j, j + 4, at)
+        return at
 
     def check_comment_body(self, j: int, start: int, end: int) -> None:
         body = self.t[start:end]
@@ -417,6 +479,7 @@ class _Scanner:
                 close = "/>" if name in _EMPTY else ">"
                 self.missing_close_bracket(name, j, last_end, close)
                 selfclose, tag_end = close == "/>", last_end
+                self.gt_inserted = True
                 break
             attribute = _NAME_RE.match(t, k)
             if not attribute:
@@ -434,6 +497,9 @@ class _Scanner:
             last_end = k
         declared = self.check_prefixes(name, j, attributes)
         self.open(name, j, tag_end, selfclose, declared)
+        if self.gt_inserted and self.stack and self.stack[-1].start == j:
+            self.stack[-1].gt_inserted = True
+        self.gt_inserted = False
         return tag_end
 
     def missing_close_bracket(self, name: str, j: int, at: int, close: str) -> None:
@@ -544,11 +610,11 @@ class _Scanner:
     def check_prefixes(self, name: str, j: int, attributes) -> set:
         """Report namespace prefixes used but never declared; returns those declared here."""
         declared = {a.split(":", 1)[1] for a in attributes if a.startswith("xmlns:")}
-        used = [name] + [a for a in attributes if not a.startswith(("xmlns", "xml:"))]
+        used = [q for q in [name, *attributes] if ":" in q and not q.startswith(("xmlns", "xml:"))]
+        if not used:
+            return declared
         known = declared.union(*(element.prefixes for element in self.stack))
         for qname in used:
-            if ":" not in qname:
-                continue
             prefix = qname.split(":", 1)[0]
             if prefix in known or prefix in self.undeclared or prefix == "xml":
                 continue
@@ -731,8 +797,10 @@ class _Scanner:
             hint = f"write </{name}> after '{_tail(before_text)}'"
             moved = element.children
         elif name in _EMPTY or not element.children:
-            gt = element.tag_end - 1
-            self.edit(gt, gt, "/")
+            if element.gt_inserted:
+                self.edit(element.tag_end, element.tag_end, f"</{name}>", first=True)
+            else:
+                self.edit(element.tag_end - 1, element.tag_end - 1, "/")
             hint = f"end the tag with '/>' (<{name} .../>)" if name in _EMPTY else \
                 f"end the tag with '/>', or write </{name}> where it ends"
             moved = element.children
@@ -974,7 +1042,7 @@ def repair(text: str, path: str) -> tuple[str, list[tuple[str, Finding]]]:
 
 
 def _repair(text: str, path: str, problems: list) -> tuple[str, list]:
-    text = _fix_declaration(text, path, problems)
+    text, declaration_shift = _fix_declaration(text, path, problems)
     root, error = _strict_parse(text)
     if error is None and not _may_hold_taglike_text(text):
         return text, problems  # fast path: well-formed, nothing looks like a broken tag
@@ -985,7 +1053,7 @@ def _repair(text: str, path: str, problems: list) -> tuple[str, list]:
     original = text
     found: list[tuple[str, str, int, int, str | None, tuple | None, str | None]] = []
     text = _replace_bad_characters(text, found)
-    history: list[dict] = []
+    history: list[dict] = [declaration_shift] if declaration_shift else []
     seen_keys: set = set()
     if found:
         root, error = _strict_parse(text)
@@ -1008,6 +1076,7 @@ def _repair(text: str, path: str, problems: list) -> tuple[str, list]:
                 fresh.append(problem)
         if not fresh:
             break  # nothing new recognised: repeating the same repairs would not help
+        fresh = fresh[:budget]
         for problem in fresh:
             line, column0 = _position(text, problem.offset)
             column0 = _map_back(line, column0, history)

@@ -1,0 +1,172 @@
+"""The `xml` family on real files (pybullet_data, example-robot-data): no false alarms, the dirty
+but accepted files give warnings only; the fast path costs one strict parse; and no input, however
+broken, makes repair() raise, hang, or move a line."""
+
+from __future__ import annotations
+
+import random
+import re
+import time
+
+import pytest
+from conftest import ROBOTS, example_robot_urdfs, pybullet_urdfs
+from lxml import etree
+
+from urdftool import xmlrepair
+from urdftool.check import CheckOptions, check_file
+from urdftool.source import read_text
+from urdftool.xmlrepair import repair
+
+# Files of the corpora that are genuinely not well-formed XML, and why. Every robot tool accepts
+# them, so urdftool warns (never an error): the rest of each file is checked.
+DIRTY = {
+    "biped/biped2d_pybullet.urdf": "three blank lines before <?xml ...?> (xml.declaration)",
+    "differential/diff_ring.urdf": "a blank line before <?xml ...?> (xml.declaration)",
+    "humanoid/humanoid.urdf": "a NUL byte after </robot> (xml.bad-character)",
+}
+
+
+def _corpus():
+    return pybullet_urdfs() + example_robot_urdfs()
+
+
+def _name(path) -> str:
+    return "/".join(path.parts[-2:])
+
+
+@pytest.fixture(scope="module")
+def corpus():
+    return [(path, read_text(path)) for path in _corpus()]
+
+
+def test_corpus_has_no_xml_errors_and_warnings_only_where_named(corpus):
+    version_zero = []
+    for path, text in corpus:
+        fixed, problems = repair(text, str(path))
+        assert fixed.count("\n") == text.count("\n")
+        severities = {(rule, finding.severity) for rule, finding in problems}
+        assert all(rule in ("xml.declaration", "xml.bad-character") for rule, _ in severities), \
+            (path, problems)
+        # xml.declaration is a warning by its rule; a trailing NUL is graded down to a warning
+        assert all(rule == "xml.declaration" or severity == "warning"
+                   for rule, severity in severities), (path, problems)
+        if re.match(r"<\?xml version=[\"']0\.0", text):
+            version_zero.append(path)
+            assert [r for r, _ in problems] == ["xml.declaration"]
+            assert fixed.splitlines()[1:] == text.splitlines()[1:]  # only line 1 touched
+        elif problems:
+            assert _name(path) in DIRTY, (path, problems)
+    assert len(version_zero) == 26, [p.name for p in version_zero]
+
+
+def test_version_zero_files_check_with_a_warning_only():
+    files = [p for p in pybullet_urdfs() if read_text(p).startswith(('<?xml version="0.0"',
+                                                                      "<?xml version='0.0'"))]
+    assert len(files) == 26
+    for path in files:
+        report = check_file(path, CheckOptions(select=["xml"]))
+        assert [(d.rule, d.severity, d.line) for d in report.diagnostics] == [
+            ("xml.declaration", "warning", 1)], path
+        assert report.robot  # the document was read: the robot has its name
+
+
+def test_fast_path_is_one_strict_parse_and_no_scan(corpus, monkeypatch):
+    """A well-formed file costs one strict parse (plus two C-level character counts)."""
+    parses = []
+    real_parse = xmlrepair._strict_parse
+    monkeypatch.setattr(xmlrepair, "_strict_parse", lambda text: parses.append(1) or real_parse(text))
+
+    class NoScanner:
+        def __init__(self, *args):
+            raise AssertionError("the scanner ran on a well-formed file")
+
+    monkeypatch.setattr(xmlrepair, "_Scanner", NoScanner)
+    well_formed = [(p, t) for p, t in corpus if _wellformed(t)]
+    assert len(well_formed) > 100
+    for path, text in well_formed:
+        parses.clear()
+        fixed, problems = repair(text, str(path))
+        assert (fixed, problems, len(parses)) == (text, [], 1), path
+
+
+def _wellformed(text: str) -> bool:
+    try:
+        etree.fromstring(text.encode(), xmlrepair.secure_parser())
+        return True
+    except etree.XMLSyntaxError:
+        return False
+
+
+# --- robustness --------------------------------------------------------------------------------
+
+def _mutations(text: str, rng: random.Random):
+    """Damage of the kinds people and text extraction make."""
+    positions = [m.start() for m in re.finditer(r"[<>/\"=&]", text)]
+    for _ in range(3):
+        at = rng.choice(positions)
+        yield text[:at] + text[at + 1:]  # lose one markup character
+        yield text[:at] + rng.choice(["<", ">", "&", '"', "</", "/>", "\x0c", "--"]) + text[at:]
+        yield text[:at]  # truncated
+    lines = text.splitlines(keepends=True)
+    cut = rng.randrange(len(lines))
+    yield "".join(lines[:cut] + lines[cut + 1:])  # a line lost
+    yield "".join(lines[:cut] + [lines[cut]] * 2 + lines[cut + 1:])  # a line doubled
+    chars = list(text)
+    for at in rng.sample(range(len(chars)), 20):
+        chars[at] = rng.choice("<>/&\"' =\n")  # noise
+    yield "".join(chars)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_damaged_robots_never_raise_hang_or_move_lines(seed):
+    rng = random.Random(seed)
+    sources = sorted(p for p in ROBOTS.glob("*/*/*") if p.suffix in (".urdf", ".xacro"))
+    sources += rng.sample(pybullet_urdfs(), 5)
+    for path in sources:
+        text = read_text(path)
+        for damaged in _mutations(text, rng):
+            start = time.perf_counter()
+            fixed, problems = repair(damaged, "x.urdf")
+            assert time.perf_counter() - start < 5
+            assert fixed.count("\n") == damaged.count("\n")
+            assert len(problems) <= xmlrepair.MAX_REPAIRS + 3
+            for rule, finding in problems:
+                assert rule.startswith("xml.") and finding.message
+                assert finding.loc.line is None or 1 <= finding.loc.line <= damaged.count("\n") + 1
+
+
+PATHOLOGICAL = {
+    "deeply-nested": '<robot name="r">' + "<a>" * 5000 + "</a>" * 5000 + "</robot>",
+    "deeply-unclosed": '<robot name="r">' + "<a>" * 5000,
+    "thousands-of-breakages": '<robot name="r">\n' + '<link name=a>\n' * 3000,
+    "binary-ish": "".join(chr(i % 250 + 1) for i in range(100000)),
+    "unterminated-comments": '<robot name="r">\n' + "<!-- x\n" * 20000 + "</robot>",
+    "lt-soup": "<" * 50000,
+    "tag-like-lines": '<robot name="r">\n' + 'a b="c">\n' * 20000 + "</robot>",
+    "unclosed-quote": '<robot name="r"><link name="' + "a" * 500000,
+}
+
+
+@pytest.mark.parametrize("name", PATHOLOGICAL)
+def test_pathological_inputs_return_quickly(name):
+    text = PATHOLOGICAL[name]
+    start = time.perf_counter()
+    fixed, problems = repair(text, "x.urdf")
+    assert time.perf_counter() - start < 10
+    assert fixed.count("\n") == text.count("\n")
+    assert problems and len(problems) <= xmlrepair.MAX_REPAIRS + 3
+
+
+def test_repair_budget_is_bounded_and_said():
+    text = '<robot name="r">\n' + '<link name=a/>\n' * 500 + "</robot>\n"
+    _, problems = repair(text, "x.urdf")
+    repaired = [r for r, _ in problems if r != "xml.syntax"]
+    assert repaired == ["xml.bad-attribute"] * xmlrepair.MAX_REPAIRS
+    syntax = [f.message for r, f in problems if r == "xml.syntax"]
+    assert "stopped" in syntax[0] and len(syntax) == 2  # the budget note, the parser's leftover
+
+
+def test_check_on_pathological_files_gives_diagnostics_not_tracebacks(write):
+    for name, text in PATHOLOGICAL.items():
+        report = check_file(write(text, f"{name}.urdf"))
+        assert any(d.rule.startswith("xml.") for d in report.diagnostics), name
