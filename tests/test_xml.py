@@ -14,7 +14,7 @@ ROBOT = '<robot name="r">\n{}\n</robot>\n'  # the body starts on line 2
 
 
 def document(body: str) -> str:
-    return body if body.startswith("<robot") else ROBOT.format(body)
+    return body if body.startswith(("<robot", "<?xml")) else ROBOT.format(body)
 
 
 def strict_ok(text: str) -> bool:
@@ -108,6 +108,12 @@ CASES = [
      '<!-- ==== links ==== -->\n<link name="a"/>', "xml.bad-comment", 2, 6),
     ("unterminated-comment", '<!-- links ->\n<link name="a"/>', '<!-- links -->\n<link name="a"/>',
      "xml.bad-comment", 2, 1),
+    ("comment-lost-gt", '<!-- links --\n<link name="a"/>\n<!-- joints -->',
+     '<!-- links -->\n<link name="a"/>\n<!-- joints -->', "xml.bad-comment", 2, 1),
+    ("comment-one-dash-opener", '<!- links -->\n<link name="a"/>', '<!-- links -->\n<link name="a"/>',
+     "xml.bad-comment", 2, 1),
+    ("damaged-declaration", '<?xml vers"on="1.0"?>\n<robot name="r"><link name="a"/></robot>\n',
+     '<?xml version="1.0"?>\n<robot name="r"><link name="a"/></robot>\n', "xml.declaration", 1, 1),
     ("control-character", '<link name="a">\x0c</link>', '<link name="a"> </link>',
      "xml.bad-character", 2, 16),
     ("undeclared-xacro", '<xacro:property name="w" value="1"/>', '<link name="a"/>',
@@ -261,3 +267,25 @@ def test_findings_reach_the_check_report(write):
     report = check_file(path, CheckOptions(select=["xml"]))
     assert [(d.rule, d.line, d.column, d.severity) for d in report.diagnostics] == [
         ("xml.missing-open-bracket", 4, 3, "error")]
+
+
+def test_columns_on_line_one_survive_the_declaration_rewrite():
+    text = '<?xml vers"on="1.0" ?> <robot name="r"><link name=b/></robot>\n'
+    fixed, found, _ = findings(text)
+    assert ("xml.declaration", 1, 1) in found
+    assert ("xml.bad-attribute", 1, text.index("name=b") + len("name=") + 1) in found
+    assert strict_ok(fixed)
+
+
+def test_truncated_file_is_closed_in_the_right_order():
+    text = '<robot name="r">\n  <link name="a">\n    <visual name="v'
+    fixed, found, _ = findings(text)
+    assert {r for r, _, _ in found} == {"xml.bad-attribute", "xml.missing-close-bracket",
+                                        "xml.unclosed-tag"}
+    assert fixed.endswith('<visual name="v"></visual></link></robot>')
+    assert strict_ok(fixed)
+
+
+def test_other_processing_instructions_are_not_declarations():
+    text = '<?xml-stylesheet href="robot.xsl"?>\n<robot name="r"><link name="a"/></robot>\n'
+    assert findings(text)[1] == []
