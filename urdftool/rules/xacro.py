@@ -20,7 +20,7 @@ from pathlib import Path
 
 from urdftool.model import Robot
 from urdftool.report import Finding
-from urdftool.rules import rule
+from urdftool.rules import rule, source_rule
 
 XACRO_NS = "http://www.ros.org/wiki/xacro"
 _HEAD = f'<robot xmlns:xacro="{XACRO_NS}" name="r">\n'
@@ -125,9 +125,18 @@ def classify(message: str, robot: Robot | None = None) -> tuple[str, str, str | 
       good=_HEAD + '  <xacro:property name="base" value="base_link"/>\n  <link name="${base}"/>\n'
                    '</robot>')
 def xacro_error(robot: Robot):
+    old_style = sorted({tag for text in robot.source.texts.values()
+                        for tag in _OLD_TAG_RE.findall(text)})
     for finding in robot.source.problems_for("xacro.error"):
-        _kind, message, hint = classify(finding.message, robot)
+        kind, message, hint = classify(finding.message, robot)
+        if old_style and kind in ("undefined-property", "undefined-macro", "undefined-arg"):
+            tags = ", ".join(f"<{tag}>" for tag in old_style)
+            hint = (f"{hint}; note: this file uses {tags} without the xacro: prefix, which "
+                    "xacro 2 ignores (write <xacro:...>)")
         yield Finding(message, finding.loc, hint=hint or finding.hint, severity=finding.severity)
+
+
+_OLD_TAG_RE = re.compile(r"<(property|macro|include|arg)\s+[^>]*?\b(?:name|filename)\s*=")
 
 
 # -- old unprefixed xacro tags -----------------------------------------------------------------
@@ -340,3 +349,45 @@ def unprefixed_macro_call(robot: Robot):
                       hint=f"write {_rewrite(robot, element, tag)}"
                            f"{_namespace_note(robot, element)}",
                       severity="error" if empty else None)
+
+
+# -- untrusted input (issue 8: urdftool.safe_eval, urdftool.sandbox) ---------------------------
+
+source_rule(
+    "xacro.unsafe-expression", "error", "a xacro expression that could run code; not evaluated",
+    doc="""xacro evaluates `${...}` and `$(eval ...)` with Python's `eval`. Its only guard, no
+    names starting with `__`, is easy to get round: a generator's `gi_frame.f_back.f_globals`
+    reaches xacro's module globals and `os`, `str.format` walks `__globals__` inside a string,
+    `$(eval ...)` sees every builtin (`exec`, `open`). A file that does this runs commands as
+    whoever expands it: on a CI runner, as the CI user.
+
+    urdftool validates every expression before it is evaluated and allows literals, names,
+    operators, conditional expressions, subscripts, comprehensions, the functions xacro documents
+    (math, `python.*` but `type`/`vars`, `xacro.*`), the methods of strings, lists, dicts and
+    numbers, and attributes of namespaces and YAML data. Lambdas, `:=`, dunder names, frame /
+    code / generator attributes and anything else are refused; the file is not expanded past
+    that point. Real robot descriptions never need any of it: rewrite the expression with
+    properties and arithmetic.""",
+    bad='<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
+        '  <link name="${[*(g:=(g.gi_frame.f_back.f_back.f_globals for _ in [1]))]}"/>\n'
+        '</robot>',
+    good='<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
+         '  <xacro:property name="side" value="left"/>\n'
+         '  <link name="${side.upper()}_${\'%02d\' % (2 * 3)}"/>\n</robot>',
+)
+
+source_rule(
+    "xacro.limit-exceeded", "error", "xacro expansion ran past a time, size or depth limit",
+    doc="""A macro that calls itself, macros that double at each level, a number like
+    `10**10**10` or a gigantic include make xacro run for ever or exhaust memory; a CI gate must
+    not hang on them. urdftool stops the expansion when it takes longer than `--timeout`
+    (default 5 s), nests macros deeper than Python's recursion limit, builds numbers or strings
+    beyond a sane size, reads a file over 64 MB, or (with `--untrusted`) uses more memory than
+    `--memory-limit`. Nothing after the stop is checked: fix the recursion or the size.""",
+    bad='<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
+        '  <xacro:macro name="loop"><xacro:loop/></xacro:macro>\n'
+        '  <link name="base"/>\n  <xacro:loop/>\n</robot>',
+    good='<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
+         '  <xacro:macro name="segment" params="i"><link name="link${i}"/></xacro:macro>\n'
+         '  <link name="base"/>\n  <xacro:segment i="1"/>\n</robot>',
+)
