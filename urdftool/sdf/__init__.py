@@ -86,3 +86,8 @@ def load_sdf(source, path: Path, text: str, options) -> None:
             source.add("sdf.no-model", Finding(str(exc), Loc(str(source.path), 1, 1)))
     except LoopRefused:  # pragma: no cover - check always cuts
         pass
+    except (ArithmeticError, ValueError, RecursionError) as exc:  # never a traceback in check
+        source.root = None
+        source.add("sdf.bad-value", Finding(
+            f"the model cannot be converted: {type(exc).__name__}: {exc}",
+            Loc(str(source.path), 1, 1), hint="report this file to urdftool's developers"))

@@ -51,7 +51,7 @@ class ConvertOptions:
 
 def fmt(value: float) -> str:
     value = float(value) + 0.0
-    if value == int(value) and abs(value) < 1e15:
+    if math.isfinite(value) and value == int(value) and abs(value) < 1e15:
         return repr(float(int(value)))
     return repr(value)
 

@@ -263,10 +263,10 @@ class Reader:
             values = tuple(float(v) for v in raw)
         except ValueError:
             values = ()
-        if len(values) not in ((size,) + sizes) or any(math.isnan(v) for v in values):
+        if len(values) not in ((size,) + sizes) or not all(math.isfinite(v) for v in values):
             self.report("sdf.bad-value",
                         f"<{child.tag}> '{' '.join(raw)}' is not {size} numbers", child,
-                        hint=f"write {size} numbers separated by spaces")
+                        hint=f"write {size} finite numbers separated by spaces")
             return default
         return values
 
