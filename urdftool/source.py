@@ -39,6 +39,12 @@ class LoadOptions:
     xacro_args: dict[str, str] = field(default_factory=dict)  # NAME:=VALUE
     sdf_model: str | None = None  # SDF input: the model to convert (--model)
     sdf_model_paths: list[str] = field(default_factory=list)  # SDF: model:// search (--model-path)
+    # untrusted input (issue 8; see urdftool.sandbox): xacro runs in a confined child process,
+    # $(env)/$(optenv) see only allow_env, files are read only inside the package roots
+    untrusted: bool = False
+    allow_env: tuple[str, ...] = ()
+    timeout: float | None = 5.0  # seconds for one xacro expansion (None: no limit)
+    memory_mb: int = 1024  # memory for the sandboxed expansion, above what is already mapped
 
 
 @dataclass

@@ -3,12 +3,22 @@
 xacro keeps global state and reads files itself; ``_patched_xacro`` swaps in, for the duration
 of one expansion, a parser that repairs and tags every element with its file and line, a macro
 call handler that records call sites, and a package finder that uses our resolver.
+
+It also makes expansion safe on untrusted files: every expression goes through
+``urdftool.safe_eval`` (validated, guarded), ``$(env)``/``$(optenv)`` see only ``--allow-env``
+variables, files are read only inside the package roots, and a deadline bounds the run. With
+``LoadOptions.untrusted`` the whole xacro pass runs in a child process (``urdftool.sandbox``)
+with a wall-time and memory limit; it hands back the expanded text, tagged with the source
+locations, and the problems found.
 """
 
 from __future__ import annotations
 
 import contextlib
+import os
+import time
 import xml.dom.minidom
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from lxml import etree
@@ -27,6 +37,7 @@ from urdftool.source import (
     quiet_stderr,
     read_text,
 )
+from urdftool.xmlrepair import secure_parser
 
 
 class _Files:
@@ -56,13 +67,96 @@ def _parse_loc(value: str, files: _Files) -> Loc:
     return Loc(files.paths[index], line or None, column or None)
 
 
-@contextlib.contextmanager
-def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Path):
-    import xacro
-    import xacro.substitution_args as substitution_args
+MAX_FILE_BYTES = 64 << 20  # a robot description file (or YAML file) larger than this is refused
 
+
+@dataclass
+class Expansion:
+    """What the xacro pass hands back (pickle-able: it may come from the sandbox process)."""
+
+    text: str | None  # the expanded XML, every element tagged with LOC_ATTR / VIA_ATTR
+    files: list[str] = field(default_factory=list)  # the index used in the tags
+    problems: list = field(default_factory=list)  # (rule, Finding)
+    texts: dict[str, str] = field(default_factory=dict)  # every file read -> its text
+
+
+class OutsidePackage(Exception):
+    """A file outside the package roots, read while expanding an untrusted file."""
+
+    def __init__(self, path: str):
+        super().__init__(f"{path} is outside the package roots; --untrusted reads only files "
+                         "inside them (give the package with -P NAME=DIR)")
+        self.path = path
+
+
+class _Reported(Exception):
+    """Expansion stopped on problems already recorded (unsafe expressions found by the scan)."""
+
+
+@dataclass
+class _Policy:
+    deadline: float | None = None  # time.monotonic() after which expansion stops
+    roots: list[Path] | None = None  # files only under these (None: anywhere)
+    allow_env: frozenset | None = None  # $(env)/$(optenv) see only these (None: all)
+
+    def check_path(self, filename: str) -> None:
+        if self.roots is None:
+            return
+        resolved = Path(filename).resolve()
+        if not any(resolved.is_relative_to(root) for root in self.roots):
+            raise OutsidePackage(str(filename))
+
+
+def _cause(exc: BaseException, kinds) -> BaseException | None:
+    """The first exception of ``kinds`` among ``exc``, what xacro wrapped in it, and its
+    causes."""
+    seen = set()
+    stack = [exc]
+    while stack:
+        current = stack.pop()
+        if current is None or id(current) in seen:
+            continue
+        seen.add(id(current))
+        if isinstance(current, kinds):
+            return current
+        stack.extend([getattr(current, "exc", None), current.__cause__, current.__context__])
+    return None
+
+
+def _scan_expressions(root, text: str, shown: str, source: Source) -> bool:
+    """Record every literal expression of the file that the validator rejects."""
+    from urdftool.safe_eval import scan
+
+    found = False
+    for element in root.iter():
+        if not isinstance(element.tag, str):
+            continue
+        values = [*element.attrib.values(), element.text or "", element.tail or ""]
+        for value in values:
+            for unsafe in scan(value):
+                line = element.sourceline
+                source.add("xacro.unsafe-expression", Finding(
+                    f"{unsafe}; urdftool does not evaluate it", Loc(shown, line, None),
+                    hint="xacro expressions may use numbers, strings, properties, operators, "
+                         "math functions and YAML data; nothing that reaches Python internals"))
+                found = True
+    return found
+
+
+@contextlib.contextmanager
+def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Path,
+                   policy: _Policy | None = None):
+    import xacro
+    from xacro import substitution_args
+
+    from urdftool.safe_eval import Evaluator, LimitExceeded, UnsafeExpression
+
+    policy = policy or _Policy()
+    evaluator = Evaluator(policy.deadline)
     saved = (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
-             xacro.process_include)
+             xacro.process_include, xacro.safe_eval, substitution_args._eval,
+             substitution_args._eval_env, substitution_args._eval_optenv)
+    had_open = "open" in vars(xacro)
 
     def display_path(filename: str) -> str:
         candidate = Path(filename)
@@ -79,7 +173,13 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         if inp is None:
             full = Path(xacro.root_dir if hasattr(xacro, "root_dir") else ".") / filename
             try:
+                policy.check_path(str(full))
+                if full.is_file() and full.stat().st_size > MAX_FILE_BYTES:
+                    raise LimitExceeded(f"{full}: larger than {MAX_FILE_BYTES >> 20} MB")
                 text = read_text(full)
+            except (OutsidePackage, LimitExceeded) as exc:
+                xacro.filestack.pop()
+                raise xacro.XacroException(str(exc), exc=exc) from None
             except Exception as exc:  # noqa: BLE001 - reported as a xacro problem
                 xacro.filestack.pop()
                 raise xacro.XacroException("cannot include", exc=OSError(str(exc))) from None
@@ -91,10 +191,19 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         root = parse_text(text, shown, source)
         if root is None:
             raise xacro.XacroException(f"{shown}: not well-formed XML")
+        if _scan_expressions(root, text, shown, source):
+            raise _Reported()
         _tag_elements(root, files.index(shown), text)
+        # Only the element tree goes to minidom: no DOCTYPE, so no entity declarations; an
+        # entity reference left unexpanded by the secure parser is refused here.
+        for node in root.iter(etree.Entity):
+            raise xacro.XacroException(f"{shown}:{node.sourceline}: entity reference {node.text} "
+                                       "is not expanded (DTD entities are disabled)")
         return xml.dom.minidom.parseString(_utf8_bytes(etree.tostring(root, encoding="unicode")))
 
     def handle_macro_call(node, macros, symbols):
+        if policy.deadline is not None and time.monotonic() > policy.deadline:
+            raise LimitExceeded("xacro expansion took longer than the time limit")
         if not node.tagName.startswith("xacro:") or node.tagName == "xacro:call":
             return saved[1](node, macros, symbols)
         call = node.getAttribute(LOC_ATTR)
@@ -125,7 +234,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     def eval_all(node, macros, symbols):
         try:
             return saved[2](node, macros, symbols)
-        except xacro.XacroException as exc:
+        except (xacro.XacroException, UnsafeExpression, LimitExceeded) as exc:
             if not hasattr(exc, "urdftool_loc") and node.nodeType == node.ELEMENT_NODE \
                     and node.getAttribute(LOC_ATTR):
                 exc.urdftool_loc = node.getAttribute(LOC_ATTR)
@@ -138,11 +247,11 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         except xacro.XacroException as exc:
             if not hasattr(exc, "urdftool_loc") and elt.getAttribute(LOC_ATTR):
                 exc.urdftool_loc = elt.getAttribute(LOC_ATTR)
-            if not isinstance(exc.exc, OSError) or not elt.getAttribute(LOC_ATTR):
+            outside = isinstance(exc.exc, OutsidePackage)
+            if not (isinstance(exc.exc, OSError) or outside) or not elt.getAttribute(LOC_ATTR):
                 raise
             source.add("xacro.error", Finding(f"xacro: {str(exc).strip()}; skipped, the rest is "
-                                              "expanded without it",
-                                              _parse_loc(exc.urdftool_loc, files)))
+                                     "expanded without it", _parse_loc(exc.urdftool_loc, files)))
             xacro.replace_node(elt, by=None)
 
     def find(package: str) -> str:
@@ -152,38 +261,219 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
                 f"package '{package}' not found (give it with -P {package}=DIR)")
         return str(directory)
 
+    def safe_eval(expr, globals, locals=None):
+        return evaluator.eval_expression(expr, globals)
+
+    def eval_substitution(s, context):
+        """xacro's ``$(eval ...)`` with the builtins, calls and attributes guarded."""
+        if "arg" not in context:
+            context["arg"] = {}
+
+        def arg(name):
+            return substitution_args.convert_value(
+                substitution_args._eval_arg(name, args=context["arg"]), "auto")
+
+        def dirname():
+            return substitution_args._eval_dirname(context["filename"])
+
+        functions = {"arg": arg, "dirname": dirname}
+        functions.update(substitution_args._eval_dict)
+        functions.update(env=eval_env, optenv=eval_optenv, find=find)
+        evaluator.allow(arg, dirname, eval_env, eval_optenv, find)
+        if s.find("__") >= 0:
+            raise substitution_args.SubstitutionException(
+                "$(eval ...) may not contain double underscore expressions")
+        try:
+            value = evaluator.eval_substitution(s, substitution_args._DictWrapper(
+                context["arg"], functions))
+        except UnsafeExpression as exc:
+            raise UnsafeExpression(f"$(eval {s})", exc.reason) from None
+        return str(value)
+
+    def eval_env(name):
+        if policy.allow_env is not None and name not in policy.allow_env:
+            raise substitution_args.SubstitutionException(
+                f"environment variable {name} is not visible: --untrusted shows only the "
+                "variables named with --allow-env")
+        return saved[7](name)
+
+    def eval_optenv(name, default=""):
+        if policy.allow_env is not None and name not in policy.allow_env:
+            return default
+        return saved[8](name, default)
+
+    def confined_open(filename, *args, **kwargs):
+        """xacro's own file reads (load_yaml): inside the package roots, of bounded size."""
+        policy.check_path(filename)
+        if os.path.isfile(filename) and os.path.getsize(filename) > MAX_FILE_BYTES:
+            raise LimitExceeded(f"{filename}: larger than {MAX_FILE_BYTES >> 20} MB")
+        return open(filename, *args, **kwargs)
+
     xacro.parse, xacro.handle_macro_call, xacro.eval_all = parse, handle_macro_call, eval_all
     substitution_args._eval_find, xacro.process_include = find, process_include
+    xacro.safe_eval, substitution_args._eval = safe_eval, eval_substitution
+    substitution_args._eval_env, substitution_args._eval_optenv = eval_env, eval_optenv
+    xacro.open = confined_open
     try:
         yield xacro
     finally:
         (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
-         xacro.process_include) = saved
+         xacro.process_include, xacro.safe_eval, substitution_args._eval,
+         substitution_args._eval_env, substitution_args._eval_optenv) = saved
+        if not had_open:
+            del xacro.open
 
 
-def expand(source: Source, path: Path, options: LoadOptions) -> None:
-    """Expand ``path`` into ``source.root`` with locations in ``source.locs``; xacro errors
-    become ``xacro.error`` problems at the line where they happened."""
+def _roots(source: Source, path: Path) -> list[Path]:
+    """Where an untrusted expansion may read: the known packages and the input's own package
+    (or directory)."""
+    roots = list(source.resolver.roots()) if source.resolver is not None else []
+    directory = path.resolve().parent
+    own = next((d for d in (directory, *directory.parents) if (d / "package.xml").is_file()),
+               directory)
+    roots.append(own)
+    resolved = []
+    for root in roots:
+        try:
+            resolved.append(Path(root).resolve())
+        except OSError:
+            continue
+    return resolved
+
+
+def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Policy) -> Expansion:
+    """Run xacro on ``path``; everything it reports is in the returned Expansion."""
+    from urdftool.safe_eval import LimitExceeded, UnsafeExpression
+
+    work = Source(source.path, source.kind, texts=dict(source.texts), resolver=source.resolver)
     files = _Files()
     files.index(source.path)
-    with quiet_stderr(), _patched_xacro(source, files, options, path) as xacro:
+
+    def where(exc) -> Loc:
+        return _parse_loc(exc.urdftool_loc, files) if hasattr(exc, "urdftool_loc") else \
+            Loc(source.path, None, None)
+
+    expanded = None
+    with quiet_stderr(), _patched_xacro(work, files, options, path, policy) as xacro:
         try:
             xacro.init_stacks(str(path))
             doc = xacro.process_file(str(path), mappings=dict(options.xacro_args))
             expanded = doc.toxml()
-        except xacro.XacroException as exc:
-            loc = _parse_loc(exc.urdftool_loc, files) if hasattr(exc, "urdftool_loc") else \
-                Loc(source.path, None, None)
-            message = str(exc).strip() or type(exc).__name__
-            source.add("xacro.error", Finding(f"xacro: {message}", loc))
-            return
+        except _Reported:
+            pass
         except Exception as exc:  # noqa: BLE001 - xacro raises plain Python errors too
-            if not source.problems:
-                source.add("xacro.error", Finding(f"xacro: {type(exc).__name__}: {exc}",
-                                                  Loc(source.path, None, None)))
+            located = _cause(exc, (xacro.XacroException, UnsafeExpression, LimitExceeded))
+            loc = where(located) if located is not None else Loc(source.path, None, None)
+            unsafe = _cause(exc, (UnsafeExpression,))
+            limit = _cause(exc, (LimitExceeded, RecursionError, MemoryError))
+            outside = _cause(exc, (OutsidePackage,))
+            if unsafe is not None:
+                work.add("xacro.unsafe-expression", Finding(
+                    f"{unsafe}; urdftool does not evaluate it", loc,
+                    hint="xacro expressions may use numbers, strings, properties, operators, "
+                         "math functions and YAML data; nothing that reaches Python internals"))
+            elif limit is not None:
+                what = {RecursionError: "macros or properties nested too deeply (recursion?)",
+                        MemoryError: "out of memory"}.get(type(limit), str(limit))
+                work.add("xacro.limit-exceeded", Finding(f"xacro: {what}; expansion stopped",
+                                                         loc))
+            elif outside is not None:
+                work.add("xacro.error", Finding(f"xacro: {outside}", loc))
+            elif isinstance(exc, xacro.XacroException):
+                message = str(exc).strip() or type(exc).__name__
+                work.add("xacro.error", Finding(f"xacro: {message}", loc))
+            elif not work.problems:
+                work.add("xacro.error", Finding(f"xacro: {type(exc).__name__}: {exc}", loc))
+    return Expansion(expanded, list(files.paths), work.problems, work.texts)
+
+
+def _to_json(expansion: Expansion) -> dict:
+    def loc(value: Loc | None):
+        return None if value is None else [value.path, value.line, value.column, value.element,
+                                            list(value.via)]
+
+    return {"text": expansion.text, "files": expansion.files, "texts": expansion.texts,
+            "problems": [[rule, f.message, loc(f.loc), f.hint, f.severity]
+                         for rule, f in expansion.problems]}
+
+
+def _from_json(data) -> Expansion:
+    """The child's answer, checked field by field (it is data from a process that read an
+    untrusted file)."""
+    from urdftool.sandbox import SandboxFailure
+
+    def text(value, optional=True):
+        if value is None and optional:
+            return None
+        if not isinstance(value, str):
+            raise SandboxFailure("malformed result from the sandboxed xacro process")
+        return value
+
+    def number(value):
+        if value is None or (isinstance(value, int) and not isinstance(value, bool)):
+            return value
+        raise SandboxFailure("malformed result from the sandboxed xacro process")
+
+    try:
+        problems = []
+        for rule, message, loc, hint, severity in data["problems"]:
+            where = None
+            if loc is not None:
+                path, line, column, element, via = loc
+                where = Loc(text(path, False), number(line), number(column), text(element),
+                            tuple(text(v, False) for v in via))
+            problems.append((text(rule, False), Finding(text(message, False), where, text(hint),
+                                                        text(severity))))
+        return Expansion(text(data["text"]), [text(f, False) for f in data["files"]], problems,
+                         {text(k, False): text(v, False) for k, v in data["texts"].items()})
+    except (KeyError, TypeError, ValueError, AttributeError):
+        raise SandboxFailure("malformed result from the sandboxed xacro process") from None
+
+
+def _xacro_pass_json(source: Source, path: Path, options: LoadOptions, policy: _Policy) -> dict:
+    return _to_json(_xacro_pass(source, path, options, policy))
+
+
+def expand(source: Source, path: Path, options: LoadOptions) -> None:
+    """Expand ``path`` into ``source.root`` with locations in ``source.locs``; xacro errors
+    become ``xacro.*`` problems at the line where they happened. With ``options.untrusted``
+    the xacro pass runs in a sandboxed child process."""
+    timeout = getattr(options, "timeout", None)
+    untrusted = getattr(options, "untrusted", False)
+    deadline = time.monotonic() + timeout if timeout else None
+    if untrusted:
+        from urdftool.safe_eval import LimitExceeded
+        from urdftool.sandbox import SandboxFailure, run_isolated
+
+        policy = _Policy(deadline, _roots(source, path), frozenset(options.allow_env))
+        env = {name: os.environ[name] for name in options.allow_env if name in os.environ}
+        try:
+            result = _from_json(run_isolated(_xacro_pass_json, (source, path, options, policy),
+                                             timeout=timeout, memory_mb=options.memory_mb,
+                                             env=env))
+        except LimitExceeded as exc:
+            source.add("xacro.limit-exceeded", Finding(f"xacro: {exc}; expansion stopped",
+                                                       Loc(source.path, None, None)))
             return
-    root = etree.fromstring(_utf8_bytes(expanded), etree.XMLParser(
-        resolve_entities=False, no_network=True, huge_tree=False))
+        except SandboxFailure as exc:
+            source.add("xacro.error", Finding(f"xacro: {exc}", Loc(source.path, None, None)))
+            return
+    else:
+        result = _xacro_pass(source, path, options, _Policy(deadline))
+    source.problems.extend(result.problems)
+    for shown, text in result.texts.items():
+        source.texts.setdefault(shown, text)
+    if result.text is None:
+        return
+    files = _Files()
+    files.paths = list(result.files)
+    try:
+        root = etree.fromstring(_utf8_bytes(result.text), secure_parser())
+    except etree.XMLSyntaxError as exc:
+        source.add("xacro.limit-exceeded", Finding(
+            f"xacro: the expanded document cannot be read back ({exc.msg}); nested too deeply "
+            "or too large", Loc(source.path, None, None)))
+        return
     for element in root.iter():
         if not isinstance(element.tag, str):
             continue

@@ -95,10 +95,62 @@ def parse_packages(values: tuple[str, ...]) -> dict[str, str]:
     return packages
 
 
+# -- untrusted input (issue 8): options shared by the commands that load files ---------------
+
+_UNTRUSTED_KEY = "urdftool.untrusted"
+
+
+def _remember(ctx, param, value):
+    ctx.meta.setdefault(_UNTRUSTED_KEY, {})[param.name] = value
+    return value
+
+
+def untrusted_options(function):
+    """``--untrusted/--trusted``, ``--allow-env NAME``, ``--timeout S``, ``--memory-limit MB``.
+    The values reach ``load_options`` through the click context, so a command only adds the
+    decorator. Without ``--trusted``/``--untrusted`` the mode is untrusted when ``CI`` is set."""
+    options = [
+        click.option("--memory-limit", "memory_limit", type=click.IntRange(64), default=None,
+                     metavar="MB", expose_value=False, callback=_remember,
+                     help="Memory for a sandboxed xacro expansion (default 1024 MB)."),
+        click.option("--timeout", "timeout", type=click.FloatRange(0.1), default=None,
+                     metavar="SECONDS", expose_value=False, callback=_remember,
+                     help="Time limit of one xacro expansion (default 5 s)."),
+        click.option("--allow-env", "allow_env", multiple=True, metavar="NAME",
+                     expose_value=False, callback=_remember,
+                     help="With --untrusted: an environment variable $(env NAME) and "
+                          "$(optenv NAME) may read. Repeatable."),
+        click.option("--untrusted/--trusted", "untrusted", default=None, expose_value=False,
+                     callback=_remember,
+                     help="Treat the input as hostile: expand xacro in a sandboxed process "
+                          "(time and memory limits, no environment, files only inside the "
+                          "package roots). Default: --untrusted when the CI environment "
+                          "variable is set."),
+    ]
+    for option in options:
+        function = option(function)
+    return function
+
+
+def untrusted_default() -> bool:
+    """Untrusted unless told otherwise when running under CI (the ``CI`` variable is set)."""
+    return os.environ.get("CI", "").strip().lower() not in ("", "0", "false", "no")
+
+
 def load_options(packages: tuple[str, ...], xacro_args: dict[str, str]):
     from urdftool.source import LoadOptions
 
-    return LoadOptions(parse_packages(packages), xacro_args)
+    options = LoadOptions(parse_packages(packages), xacro_args)
+    ctx = click.get_current_context(silent=True)
+    given = ctx.meta.get(_UNTRUSTED_KEY, {}) if ctx is not None else {}
+    untrusted = given.get("untrusted")
+    options.untrusted = untrusted_default() if untrusted is None else untrusted
+    options.allow_env = tuple(given.get("allow_env") or ())
+    if given.get("timeout") is not None:
+        options.timeout = given["timeout"]
+    if given.get("memory_limit") is not None:
+        options.memory_mb = given["memory_limit"]
+    return options
 
 
 def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | None = None):

@@ -6,13 +6,20 @@ from pathlib import Path
 
 import click
 
-from urdftool.cli import format_option, load_options, package_option, split_args
+from urdftool.cli import (
+    format_option,
+    load_options,
+    package_option,
+    split_args,
+    untrusted_options,
+)
 
 
 @click.command("check")
 @click.argument("inputs", nargs=-1, required=True, metavar="PATH... [NAME:=VALUE...]")
 @format_option("text", "json", "sarif", "github")
 @package_option
+@untrusted_options
 @click.option("--strict", is_flag=True, default=None, help="Warnings fail the run too (exit 1).")
 @click.option("--select", multiple=True, metavar="RULE|FAMILY",
               help="Only these rules or families (repeatable, or comma-separated).")

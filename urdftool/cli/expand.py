@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import click
 
-from urdftool.cli import load_options, package_option, split_args
+from urdftool.cli import load_options, package_option, split_args, untrusted_options
 
 
 @click.command("expand")
 @click.argument("inputs", nargs=-1, required=True, metavar="FILE.xacro [NAME:=VALUE...]")
 @package_option
+@untrusted_options
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write here, not stdout.")
 @click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text",
               help="text: the URDF; json: the URDF and the problems found.")
