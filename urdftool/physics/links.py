@@ -285,10 +285,11 @@ def _judge(a: LinkAnalysis) -> None:
         errors[perm] = phys.frobenius(phys.mat_add(permuted, phys.mat_scale(a.derived, -1.0)))
         errors[perm] /= reference
     as_written = errors[(0, 1, 2)]
-    best = min((p for p in errors if p != (0, 1, 2)), key=errors.__getitem__)
-    if (errors[best] <= PERMUTED_MATCH and as_written >= PERMUTED_MISMATCH
-            and "unit-scale" not in a.findings):
-        a.permutation = best
+    # among the permutations that fit, the simplest: a swap of two axes before a 3-cycle
+    fitting = [p for p in errors if p != (0, 1, 2) and errors[p] <= PERMUTED_MATCH]
+    if fitting and as_written >= PERMUTED_MISMATCH and "unit-scale" not in a.findings:
+        a.permutation = min(fitting, key=lambda p: (sum(i != k for i, k in enumerate(p)),
+                                                    errors[p]))
         a.findings["permuted-axes"] = "warning"
     # a large (possible) mismatch, when nothing above explains it
     if not a.findings and any(r > MISMATCH_FACTOR or r < 1 / MISMATCH_FACTOR

@@ -52,6 +52,19 @@ def _mass_loc(link):
     return (inertial.mass_loc or inertial.loc or link.loc) if inertial is not None else link.loc
 
 
+def _origin_loc(robot, link):
+    """Where the <origin> of a link's <inertial> was written, if it has one."""
+    inertial = link.inertial
+    if robot.root is None or inertial is None or inertial.loc is None \
+            or not inertial.loc.element:
+        return None
+    try:
+        found = robot.root.getroottree().xpath(inertial.loc.element + "/origin")
+    except Exception:  # noqa: BLE001 - an odd path: fall back to the <inertial>
+        return None
+    return robot.loc(found[0]) if found else None
+
+
 def _analyses(robot, name: str):
     for a in analysis.analyse(robot).values():
         if name in a.findings:
@@ -343,7 +356,7 @@ geometry that leaves out a heavy part.""",
 def com_outside_geometry(robot):
     for a in _analyses(robot, "com-outside-geometry"):
         x, y, z = a.com
-        loc = a.link.inertial.loc or a.link.loc
+        loc = _origin_loc(robot, a.link) or a.link.inertial.loc or a.link.loc
         yield Finding(f"link '{a.link.name}': centre of mass ({x:g}, {y:g}, {z:g}) lies "
                       f"{_g(a.com_distance)} m outside the convex hull of its visual and "
                       f"collision geometry ({a.com_distance / a.com_thickness:.0%} of the "
