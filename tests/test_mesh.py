@@ -1,0 +1,216 @@
+"""The `mesh` rules and mesh-based inertia: meshes written by trimesh in the test, compared with
+the closed-form box; the once-per-run mesh cache; PyBullet as a second opinion on primitives."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from tests.conftest import run_urdftool
+from urdftool.check import CheckOptions, check_file
+from urdftool.model import build_robot
+from urdftool.physics import links, meshes
+from urdftool.source import LoadOptions, load
+
+trimesh = pytest.importorskip("trimesh")
+
+
+def box_formula(m, a, b, c):
+    return np.diag([m * (b * b + c * c) / 12, m * (a * a + c * c) / 12, m * (a * a + b * b) / 12])
+
+
+def analyse(path, packages=None):
+    links._last = None  # a fresh analysis for every file written by a test
+    robot = build_robot(load(path, LoadOptions(packages or {})))
+    return robot, {a.link.name: a for a in links.analyse(robot).values()}
+
+
+def diagnostics(path, families=("mesh", "inertia")):
+    return check_file(path, CheckOptions(select=list(families))).diagnostics
+
+
+@pytest.fixture
+def box_stl(tmp_path):
+    """A 0.2 x 0.1 x 0.05 m box written as STL by trimesh."""
+    path = tmp_path / "meshes" / "box.stl"
+    path.parent.mkdir()
+    trimesh.creation.box(extents=(0.2, 0.1, 0.05)).export(path)
+    return path
+
+
+def mesh_link(name, filename, mass=2.0, tensor=(1.0, 1.0, 1.0), scale=None, rpy="0 0 0",
+              role="collision"):
+    scale_attr = f' scale="{scale}"' if scale else ""
+    ixx, iyy, izz = tensor
+    return (f'<link name="{name}"><inertial><mass value="{mass!r}"/><inertia ixx="{ixx!r}" '
+            f'ixy="0" ixz="0" iyy="{iyy!r}" iyz="0" izz="{izz!r}"/></inertial>'
+            f'<{role}><origin rpy="{rpy}"/><geometry><mesh filename="{filename}"{scale_attr}/>'
+            f'</geometry></{role}></link>')
+
+
+def test_box_mesh_inertia_matches_the_box_formula(write, box_stl):
+    path = write(f'<robot name="r">{mesh_link("a", "meshes/box.stl")}</robot>')
+    _, result = analyse(path)
+    a = result["a"]
+    assert a.derived_from == "collision"
+    np.testing.assert_allclose(a.solid.inertia(2.0), box_formula(2.0, 0.2, 0.1, 0.05),
+                               rtol=1e-6, atol=1e-12)
+    assert a.solid.volume == pytest.approx(0.2 * 0.1 * 0.05, rel=1e-6)
+
+
+def test_scaled_and_rotated_mesh_matches_the_rotated_box(write, box_stl):
+    rpy = (0.3, -0.5, 1.1)
+    r = Rotation.from_euler("xyz", rpy).as_matrix()
+    expected = r @ box_formula(3.0, 0.4, 0.1, 0.15) @ r.T
+    rpy_text = " ".join(map(repr, rpy))
+    path = write(f'<robot name="r">{mesh_link("a", "meshes/box.stl", 3.0, scale="2 1 3", rpy=rpy_text)}'
+                 f'{mesh_link("b", "meshes/box.stl", 3.0, scale="-2 1 3", rpy=rpy_text)}</robot>')
+    _, result = analyse(path)
+    for name in ("a", "b"):  # b is mirrored: the same body
+        np.testing.assert_allclose(result[name].solid.inertia(3.0), expected, rtol=1e-6,
+                                   atol=1e-12)
+
+
+def test_box_mesh_with_its_formula_is_quiet_and_with_ones_is_flagged(write, box_stl):
+    good = box_formula(2.0, 0.2, 0.1, 0.05).diagonal()
+    path = write(f'<robot name="r">{mesh_link("a", "meshes/box.stl", 2.0, tuple(good))}</robot>')
+    assert diagnostics(path) == []
+    path = write(f'<robot name="r">{mesh_link("a", "meshes/box.stl", 2.0)}</robot>', "bad.urdf")
+    (d,) = diagnostics(path)
+    # the tightest axis is x: the farthest corner is at y, z = 0.05, 0.025 -> 2 kg x
+    # 0.003125 m^2 = 0.00625 kg m^2, 160 times less than the declared 1 kg m^2
+    assert d.rule == "inertia.exceeds-geometry"
+    assert "0.00625 kg·m²" in d.message and "160x" in d.message
+
+
+def test_each_mesh_is_loaded_once_per_run(write, box_stl):
+    meshes.clear_cache()
+    text = ('<robot name="r">' + mesh_link("a", "meshes/box.stl")
+            + '<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>'
+            + mesh_link("b", "./meshes/../meshes/box.stl", role="visual")
+            + '<joint name="k" type="fixed"><parent link="a"/><child link="c"/></joint>'
+            + mesh_link("c", str(box_stl)) + "</robot>")
+    first = write(text, "one.urdf")
+    second = write(text.replace('name="r"', 'name="s"'), "two.urdf")
+    for path in (first, second, first):
+        check_file(path)
+    run_urdftool("inertia", first)
+    assert meshes.LOADS == 1
+
+
+def test_open_mesh_uses_its_hull_and_says_so(write, tmp_path):
+    closed = trimesh.creation.box(extents=(0.1, 0.1, 0.1))
+    keep = closed.face_normals[:, 2] < 0.9  # drop the top face
+    trimesh.Trimesh(closed.vertices, closed.faces[keep], process=False).export(
+        tmp_path / "open.stl")
+    tensor = tuple(box_formula(1.0, 0.1, 0.1, 0.1).diagonal())
+    path = write(f'<robot name="r">{mesh_link("a", "open.stl", 1.0, tensor)}</robot>')
+    (d,) = diagnostics(path)
+    assert (d.rule, d.severity) == ("mesh.not-watertight", "info")
+    _, result = analyse(path)
+    np.testing.assert_allclose(result["a"].solid.inertia(1.0), np.diag(tensor), rtol=1e-6)
+    # a visual-only open mesh that is not used for the inertia is not reported
+    path = write('<robot name="r"><link name="a"><visual><geometry><mesh filename="open.stl"/>'
+                 '</geometry></visual></link></robot>', "visual.urdf")
+    assert diagnostics(path) == []
+
+
+def test_millimetre_mesh(write, tmp_path):
+    trimesh.creation.box(extents=(100.0, 20.0, 5.0)).export(tmp_path / "bracket.stl")
+    base = ('<robot name="r"><link name="a"><visual><geometry><box size="0.1 0.1 0.1"/>'
+            '</geometry></visual></link><joint name="j" type="revolute"><parent link="a"/>'
+            '<child link="b"/><origin xyz="0.1 0 0"/><axis xyz="0 0 1"/>'
+            '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+            '<link name="b"><visual><geometry><mesh filename="bracket.stl"{}/></geometry>'
+            '</visual></link></robot>')
+    (d,) = diagnostics(write(base.format(""), "mm.urdf"), ("mesh",))
+    assert d.rule == "mesh.scale" and "100 m across" in d.message and "1e+03x" in d.message
+    scaled = write(base.format(' scale="0.001 0.001 0.001"'), "m.urdf")
+    assert diagnostics(scaled, ("mesh",)) == []
+
+
+def test_unresolved_missing_and_unreadable(write, tmp_path):
+    (tmp_path / "garbage.stl").write_text("solid x\n facet normal 0 0 1\n")
+    text = ('<robot name="r"><link name="a">'
+            '<visual><geometry><mesh filename="package://no_such_pkg_q/a.stl"/></geometry></visual>'
+            '<visual><geometry><mesh filename="missing.stl"/></geometry></visual>'
+            '<visual><geometry><mesh filename="garbage.stl"/></geometry></visual>'
+            '<visual><geometry><mesh filename="http://example.com/a.stl"/></geometry></visual>'
+            '<visual><geometry><mesh filename="model.mesh"/></geometry></visual>'
+            '</link></robot>')
+    (tmp_path / "model.mesh").write_bytes(b"\x00ogre")
+    ds = diagnostics(write(text), ("mesh",))
+    got = sorted((d.rule, d.severity) for d in ds)
+    assert got == [("mesh.not-found", "error"), ("mesh.unreadable", "error"),
+                   ("mesh.unresolved", "warning"), ("mesh.unresolved", "warning")]
+    assert any("package 'no_such_pkg_q' is not found" in d.message for d in ds)
+
+
+def test_package_resolution_by_directory_name_and_empty_package(tmp_path, box_stl):
+    # example-robot-data's layout: package://example-robot-data/robots/... where the folder is
+    # called example-robot-data but its package.xml names it differently
+    root = tmp_path / "share" / "example-robot-data"
+    (root / "robots" / "thing" / "meshes").mkdir(parents=True)
+    (root / "package.xml").write_text("<package><name>other_name</name></package>")
+    trimesh.creation.box(extents=(0.2, 0.1, 0.05)).export(root / "robots/thing/meshes/box.stl")
+    tensor = tuple(box_formula(2.0, 0.2, 0.1, 0.05).diagonal())
+    urdf = root / "robots" / "thing" / "thing.urdf"
+    urdf.write_text('<robot name="r">' + mesh_link(
+        "a", "package://example-robot-data/robots/thing/meshes/box.stl", 2.0, tensor)
+        + mesh_link("b", "package:///example-robot-data/robots/thing/meshes/box.stl", 2.0,
+                    tensor) + "</robot>")
+    ds = diagnostics(urdf)
+    assert [(d.rule, d.severity) for d in ds] == [("mesh.unresolved", "warning")]
+    assert "empty package name" in ds[0].message
+    _, result = analyse(urdf)
+    assert result["a"].solid is not None and result["b"].solid is not None
+
+
+def test_collada_unit_is_applied(tmp_path, write):
+    box = trimesh.creation.box(extents=(200.0, 100.0, 50.0))  # millimetres
+    (tmp_path / "box.dae").write_bytes(trimesh.exchange.dae.export_collada(box))
+    text = (tmp_path / "box.dae").read_text()
+    text = text.replace("<asset>", '<asset><unit meter="0.001" name="millimeter"/>', 1)
+    (tmp_path / "box.dae").write_text(text)
+    path = write(f'<robot name="r">{mesh_link("a", "box.dae", role="visual")}</robot>')
+    _, result = analyse(path)
+    info = result["a"].shapes[0].mesh
+    np.testing.assert_allclose(info.extents, (0.2, 0.1, 0.05), rtol=1e-9)
+
+
+def test_without_trimesh_meshes_are_skipped_quietly(write, box_stl, monkeypatch):
+    monkeypatch.setattr(meshes, "trimesh_available", lambda: False)
+    path = write(f'<robot name="r">{mesh_link("a", "meshes/box.stl")}</robot>')
+    assert diagnostics(path) == []
+
+
+def test_pybullet_agrees_on_primitive_inertia(write):
+    """PyBullet (without URDF_USE_INERTIA_FROM_FILE) computes each link's inertia from its
+    collision shape; for a box and a sphere that is the exact formula, an independent check of
+    the geometry-derived tensor urdftool prints."""
+    pybullet = pytest.importorskip("pybullet")
+    text = ('<robot name="r">'
+            '<link name="base"><inertial><mass value="2"/><inertia ixx="1" ixy="0" ixz="0" '
+            'iyy="1" iyz="0" izz="1"/></inertial><collision><geometry><box size="0.2 0.1 0.05"/>'
+            '</geometry></collision></link>'
+            '<joint name="j" type="fixed"><parent link="base"/><child link="ball"/>'
+            '<origin xyz="1 0 0"/></joint>'
+            '<link name="ball"><inertial><mass value="0.3"/><inertia ixx="1" ixy="0" ixz="0" '
+            'iyy="1" iyz="0" izz="1"/></inertial><collision><geometry><sphere radius="0.07"/>'
+            '</geometry></collision></link></robot>')
+    path = write(text)
+    result = run_urdftool("inertia", path, "--format", "json")
+    data = {row["link"]: row for row in json.loads(result.out)["links"]}
+    client = pybullet.connect(pybullet.DIRECT)
+    try:
+        body = pybullet.loadURDF(str(path), physicsClientId=client)
+        for index, name in ((-1, "base"), (0, "ball")):
+            local = pybullet.getDynamicsInfo(body, index, physicsClientId=client)[2]
+            tensor = data[name]["geometry"]["tensor"]
+            np.testing.assert_allclose([tensor["ixx"], tensor["iyy"], tensor["izz"]], local,
+                                       rtol=1e-9)
+    finally:
+        pybullet.disconnect(client)
