@@ -26,6 +26,14 @@ def write_output(text: str, output: str | None, inputs: list[str] = (), in_place
     try:
         with os.fdopen(handle, "w", encoding="utf-8") as stream:
             stream.write(text)
+            # mkstemp makes the file 0600: keep the mode of the file replaced, else the umask's
+            try:
+                mode = target.stat().st_mode & 0o7777
+            except OSError:
+                umask = os.umask(0)
+                os.umask(umask)
+                mode = 0o666 & ~umask
+            os.chmod(stream.fileno(), mode)
         os.replace(temporary, target)
     except OSError as exc:
         Path(temporary).unlink(missing_ok=True)

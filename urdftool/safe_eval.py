@@ -56,6 +56,7 @@ MAX_INT_BITS = 1 << 20  # ~315 000 decimal digits
 MAX_ITEMS = 10_000_000  # characters or items of one sequence made by * or range()
 
 _G_ATTR, _G_CALL, _G_BINOP = "__urdftool_attr", "__urdftool_call", "__urdftool_binop"
+_G_ITER = "__urdftool_iter"
 
 
 class UnsafeExpression(Exception):
@@ -151,6 +152,12 @@ class _Guard(ast.NodeTransformer):
         self.generic_visit(node)
         return ast.copy_location(ast.Call(ast.Name(_G_CALL, ast.Load()),
                                           [node.func, *node.args], node.keywords), node)
+
+    def visit_comprehension(self, node):
+        self.generic_visit(node)
+        node.iter = ast.copy_location(ast.Call(ast.Name(_G_ITER, ast.Load()), [node.iter], []),
+                                      node.iter)
+        return node
 
     def visit_BinOp(self, node):
         self.generic_visit(node)
@@ -314,7 +321,8 @@ class Evaluator:
             id(v) for v in allowed if getattr(v, "__name__", "") == "wrapper"
             and getattr(v, "__closure__", None)
             and any(getattr(c, "cell_contents", None) is range for c in v.__closure__)}
-        self.guards = {_G_ATTR: self._attr, _G_CALL: self._call, _G_BINOP: self._binop}
+        self.guards = {_G_ATTR: self._attr, _G_CALL: self._call, _G_BINOP: self._binop,
+                       _G_ITER: self._iter}
 
     def allow(self, *functions) -> None:
         """Also allow calling these (functions made per evaluation, like $(eval)'s arg())."""
@@ -397,6 +405,13 @@ class Evaluator:
                 raise LimitExceeded(f"range of {len(result)} items is too long")
             return result
         return function(*args, **kwargs)
+
+    def _iter(self, iterable):
+        """A comprehension's iterable, with the deadline checked as it runs."""
+        for count, item in enumerate(iterable):
+            if not count & 0x3FF:
+                self._tick()
+            yield item
 
     def _binop(self, name, left, right):
         if name == "Pow":

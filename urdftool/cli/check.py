@@ -25,14 +25,16 @@ from urdftool.cli import (
               help="Only these rules or families (repeatable, or comma-separated).")
 @click.option("--ignore", multiple=True, metavar="RULE|FAMILY",
               help="Skip these rules or families (repeatable, or comma-separated).")
-@click.option("--fix", is_flag=True, help="Write the repaired XML (needs -o).")
+@click.option("--fix", is_flag=True, help="Write the repaired XML (needs -o or --in-place).")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Where --fix writes.")
+@click.option("--in-place", is_flag=True,
+              help="With --fix: replace the file itself (atomically) instead of writing -o.")
 @click.option("--model", "sdf_model", metavar="NAME",
               help="SDF input: the model of a world to check (default: the first).")
 @click.option("--model-path", "model_paths", multiple=True, metavar="DIR",
               help="SDF input: where model:// includes and meshes are found. Repeatable.")
 @click.pass_context
-def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, sdf_model,
+def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, in_place, sdf_model,
             model_paths):
     """Lint robot descriptions (*.urdf, *.xacro, *.urdf.xacro, *.sdf); all findings in one pass.
 
@@ -54,12 +56,17 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, sdf
                            config, ctx.obj.get("debug", False))
     options.load.sdf_model = sdf_model
     options.load.sdf_model_paths = list(model_paths)
+    if in_place and not fix:
+        raise ToolError("--in-place goes with --fix")
     if fix:
-        from urdftool.fix import write_fixed
+        from urdftool.fix import fixed_text
+        from urdftool.output import write_output
 
-        if len(paths) != 1 or not output:
-            raise ToolError("--fix repairs one file: give exactly one PATH and -o OUT")
-        write_fixed(paths[0], output)
+        if len(paths) != 1 or not (output or in_place):
+            raise ToolError("--fix repairs one file: give exactly one PATH and -o OUT "
+                            "(or --in-place)")
+        write_output(fixed_text(paths[0]), output or paths[0], inputs=[paths[0]],
+                     in_place=in_place)
     report = check_paths(paths, options)
     if fmt == "json":
         from urdftool.report import format_json

@@ -102,5 +102,5 @@ def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, 
             hint = f" (fix: {finding.hint})" if finding.hint else ""
             click.echo(f"{where}{severity}: {finding.message}{hint} [{rule_id}]", err=True)
         if urdf is not None:
-            write_output(urdf, output, inputs=[str(path)])
+            write_output(urdf, output, inputs=[str(path), *source.texts])
     ctx.exit(1 if errors or urdf is None else 0)

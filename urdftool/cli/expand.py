@@ -42,5 +42,5 @@ def command(ctx, inputs, packages, output, fmt):
             where = f"{loc.path}:{loc.line}: " if loc and loc.line else f"{source.path}: "
             click.echo(f"{where}error: {finding.message} [{rule}]", err=True)
         if text and not errors:
-            write_output(text + "\n", output, inputs=paths)
+            write_output(text + "\n", output, inputs=[*paths, *source.texts])
     ctx.exit(1 if errors or not text else 0)

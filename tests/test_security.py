@@ -1,0 +1,362 @@
+"""Untrusted xacro files: code execution, secrets, files outside the package, resource limits.
+
+Each escape class is a .xacro file whose payload would create a marker file (or leak a secret).
+urdftool must report it (``xacro.unsafe-expression``) and the marker must not exist afterwards;
+plain ``xacro`` on the same file is shown to run it (that half is skipped if a future xacro
+closes the hole).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from tests.conftest import run_urdftool
+
+XACRO_BIN = Path(sys.executable).parent / "xacro"
+HEAD = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+TAIL = '  <link name="base"/>\n</robot>\n'
+
+
+def _frame_walk(marker):  # the issue's payload: a generator's frame reaches xacro's globals
+    return (f'  <link name="${{[*(g:=(g.gi_frame.f_back.f_back.f_globals[\'os\']'
+            f'.system(\'touch {marker}\') for _ in [1]))]}}"/>\n')
+
+
+def _lambda_generator(marker):  # no walrus: a lambda hands the generator to itself
+    return (f'  <link name="${{(lambda l: l.append(y.gi_frame.f_back.f_back.f_back'
+            f'.f_globals[\'os\'].system(\'touch {marker}\') for y in l) or [*l[0]])([])}}"/>\n')
+
+
+def _comprehension_self_reference(marker):  # no walrus, no lambda: a list holds the generator
+    return (f'  <link name="${{[x for l in [[]] for _ in [l.append(g.gi_frame.f_back.f_back'
+            f'.f_back.f_globals[\'os\'].system(\'touch {marker}\') for g in l)] '
+            f'for x in l[0]]}}"/>\n')
+
+
+def _eval_builtins(marker):  # $(eval) sees every builtin; ')' is smuggled in through properties
+    return ('  <xacro:property name="lp" value="("/>\n  <xacro:property name="rp" value=")"/>\n'
+            f'  <link name="$(eval exec${{lp}}\'import os;os.system${{lp}}&quot;touch {marker}'
+            '&quot;${rp}\', {}${rp})"/>\n')
+
+
+def _yaml_units(marker, tmp_path):  # a YAML data file whose !degrees value is an expression
+    (tmp_path / "evil.yaml").write_text(
+        f"angle: !degrees \"[*(g:=(g.gi_frame.f_back.f_back.f_globals['os']"
+        f".system('touch {marker}') for _ in [1]))] and 0\"\n", encoding="utf-8")
+    return '  <link name="${xacro.load_yaml(\'evil.yaml\')[\'angle\']}"/>\n'
+
+
+ESCAPES = {
+    "frame-walk": lambda marker, tmp: _frame_walk(marker),
+    "lambda-generator": lambda marker, tmp: _lambda_generator(marker),
+    "comprehension-self-reference": lambda marker, tmp: _comprehension_self_reference(marker),
+    "eval-builtins": lambda marker, tmp: _eval_builtins(marker),
+    "yaml-unit-expression": _yaml_units,
+}
+
+
+def _plain_xacro(path: Path, env=None) -> subprocess.CompletedProcess:
+    return subprocess.run([str(XACRO_BIN), str(path)], capture_output=True, text=True,
+                          timeout=60, cwd=path.parent, env=env, check=False)
+
+
+@pytest.mark.parametrize("kind", sorted(ESCAPES))
+@pytest.mark.parametrize("mode", ["--trusted", "--untrusted"])
+def test_escape_is_reported_and_never_runs(kind, mode, tmp_path, monkeypatch):
+    marker = tmp_path / f"PWNED-{kind}"
+    path = tmp_path / "evil.urdf.xacro"
+    path.write_text(HEAD + ESCAPES[kind](marker, tmp_path) + TAIL, encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    for command in (["check", "--format", "json", mode, path], ["expand", mode, path]):
+        result = run_urdftool(*command)
+        assert not marker.exists(), f"{kind}: urdftool {command[0]} ran the payload"
+        assert result.code == 1, result.err
+        assert "xacro.unsafe-expression" in result.out + result.err
+        assert "Traceback" not in result.err
+    report = json.loads(run_urdftool("check", "--format", "json", mode, path).out)
+    (unsafe,) = [d for d in report["files"][0]["diagnostics"]
+                 if d["rule"] == "xacro.unsafe-expression"]
+    assert unsafe["severity"] == "error" and unsafe["line"] is not None
+    assert Path(unsafe["path"]).name in ("evil.urdf.xacro", "evil.yaml")
+    assert not marker.exists()
+
+
+@pytest.mark.parametrize("kind", sorted(ESCAPES))
+def test_plain_xacro_runs_the_payload(kind, tmp_path):
+    """The other half: the same file is a real exploit against plain xacro."""
+    marker = tmp_path / f"PWNED-{kind}"
+    path = tmp_path / "evil.urdf.xacro"
+    path.write_text(HEAD + ESCAPES[kind](marker, tmp_path) + TAIL, encoding="utf-8")
+    _plain_xacro(path)
+    if not marker.exists():
+        pytest.skip(f"this xacro no longer runs the {kind} payload")
+    assert marker.exists()
+
+
+# -- secrets: str.format traversal, $(env), files outside the package ------------------------
+
+
+def test_format_string_cannot_walk_to_globals(tmp_path, monkeypatch):
+    """'{0.__globals__[os].environ[...]}'.format(f): the dunder hides in a string constant."""
+    path = tmp_path / "leak.urdf.xacro"
+    path.write_text(HEAD + '  <xacro:property name="rb" value="}"/>\n'
+                    '  <link name="${(\'{0.__globals__[os].environ[URDFTOOL_SECRET]\' + rb)'
+                    '.format(xacro.load_yaml)}"/>\n' + TAIL, encoding="utf-8")
+    monkeypatch.setenv("URDFTOOL_SECRET", "hunter2")
+    result = run_urdftool("expand", "--trusted", path)
+    assert result.code == 1 and "hunter2" not in result.out + result.err
+    assert "xacro.unsafe-expression" in result.err and "format field" in result.err
+    plain = _plain_xacro(path, env={**os.environ, "URDFTOOL_SECRET": "hunter2"})
+    if "hunter2" not in plain.stdout:
+        pytest.skip("this xacro no longer leaks through str.format")
+
+
+def test_untrusted_env_sees_only_allowed_variables(tmp_path, monkeypatch):
+    path = tmp_path / "env.urdf.xacro"
+    path.write_text(HEAD + '  <link name="a_$(optenv URDFTOOL_SECRET none)"/>\n'
+                    '  <xacro:property name="lp" value="("/>\n'  # $(eval) cannot hold ')'
+                    '  <xacro:property name="rp" value=")"/>\n'
+                    '  <link name="b_$(eval optenv${lp}\'URDFTOOL_SECRET\', \'none\'${rp})"/>\n'
+                    + TAIL, encoding="utf-8")
+    monkeypatch.setenv("URDFTOOL_SECRET", "hunter2")
+    assert "hunter2" in run_urdftool("expand", "--trusted", path).out  # your own files: as xacro
+    untrusted = run_urdftool("expand", "--untrusted", path)
+    assert untrusted.code == 0 and "hunter2" not in untrusted.out
+    assert 'name="a_none"' in untrusted.out and 'name="b_none"' in untrusted.out
+    allowed = run_urdftool("expand", "--untrusted", "--allow-env", "URDFTOOL_SECRET", path)
+    assert 'name="a_hunter2"' in allowed.out and 'name="b_hunter2"' in allowed.out
+    required = tmp_path / "env2.urdf.xacro"
+    required.write_text(HEAD + '  <link name="$(env URDFTOOL_SECRET)"/>\n' + TAIL)
+    result = run_urdftool("expand", "--untrusted", required)
+    assert result.code == 1 and "hunter2" not in result.out + result.err
+    assert "--allow-env" in result.err
+
+
+def test_ci_variable_makes_untrusted_the_default(tmp_path, monkeypatch):
+    path = tmp_path / "env.urdf.xacro"
+    path.write_text(HEAD + '  <link name="$(optenv URDFTOOL_SECRET none)"/>\n' + TAIL)
+    monkeypatch.setenv("URDFTOOL_SECRET", "hunter2")
+    monkeypatch.setenv("CI", "true")
+    assert "hunter2" not in run_urdftool("expand", path).out
+    assert "hunter2" in run_urdftool("expand", "--trusted", path).out
+    monkeypatch.setenv("CI", "")
+    assert "hunter2" in run_urdftool("expand", path).out
+
+
+def _package(tmp_path) -> Path:
+    package = tmp_path / "robot_description"
+    (package / "urdf").mkdir(parents=True)
+    (package / "package.xml").write_text("<package><name>robot_description</name></package>")
+    secret = tmp_path / "secret.yaml"
+    secret.write_text("token: hunter2\n")
+    (tmp_path / "outside.xacro").write_text(
+        HEAD + '  <link name="outside_hunter2"/>\n</robot>\n')
+    return package
+
+
+@pytest.mark.parametrize("payload", [
+    '  <link name="${xacro.load_yaml(\'../../secret.yaml\')[\'token\']}"/>\n',
+    '  <link name="${python.list(python.map(xacro.load_yaml, [\'../../secret.yaml\']))}"/>\n',
+    '  <xacro:include filename="../../outside.xacro"/>\n',
+    '  <xacro:include filename="$(find robot_description)/../outside.xacro"/>\n',
+])
+def test_untrusted_reads_only_inside_the_package(payload, tmp_path, monkeypatch):
+    package = _package(tmp_path)
+    path = package / "urdf" / "robot.urdf.xacro"
+    path.write_text(HEAD + payload + TAIL, encoding="utf-8")
+    monkeypatch.chdir(package)
+    trusted = run_urdftool("expand", "--trusted", path)
+    assert "hunter2" in trusted.out  # plain xacro behaviour on your own files
+    result = run_urdftool("check", "--untrusted", "--format", "json", path)
+    assert "hunter2" not in result.out
+    messages = [d["message"] for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+                if d["rule"] == "xacro.error"]
+    assert any("outside the package roots" in m and ("secret.yaml" in m or "outside.xacro" in m)
+               for m in messages), messages
+
+
+def test_untrusted_reads_inside_the_package_and_given_packages(tmp_path, monkeypatch):
+    package = _package(tmp_path)
+    (package / "config").mkdir()
+    (package / "config" / "arm.yaml").write_text("length: 0.5\n")
+    other = tmp_path / "other_pkg"
+    other.mkdir()
+    (other / "parts.xacro").write_text(HEAD + '  <link name="other_part"/>\n</robot>\n')
+    path = package / "urdf" / "robot.urdf.xacro"
+    path.write_text(HEAD + '  <link name="l_${xacro.load_yaml(\'../config/arm.yaml\').length}"/>\n'
+                    '  <xacro:include filename="$(find other_pkg)/parts.xacro"/>\n' + TAIL)
+    monkeypatch.chdir(package)
+    result = run_urdftool("expand", "--untrusted", "-P", f"other_pkg={other}", path)
+    assert result.code == 0, result.err
+    assert 'name="l_0.5"' in result.out and 'name="other_part"' in result.out
+
+
+# -- the runtime guard (what the static scan cannot see) --------------------------------------
+
+
+@pytest.mark.parametrize("expression,reason", [
+    ("python.type('X', (), dict())", "not allowed"),
+    ("python.map(python.type, [1])", "not allowed"),
+    ("python.vars(xacro)", "not allowed"),
+    ("(x for x in [1]).close()", "generator"),
+    ("'{0.real}'.format(1)", "format field"),
+    ("str.format('{0.imag}', 2)", "format field"),
+    ("xacro.load_yaml.gi_code", "interpreter internals"),
+    ("math.parent", "not a property"),
+    ("xacro.dotify(python.dict(a=[1])).a.wrap", "YAML"),
+    ("python.sorted([1], key=python.vars)", "'vars' is not allowed"),
+    ("python.sorted([1], key=python.list(dict.values(python))[-3])", "passing 'type'"),
+    ("python.list(dict.values(python))[-3]('X', (), dict())", "calling 'type'"),
+    ("[].__class__", "dunder"),
+    ("__import__('os')", "names starting with __"),
+    ("(lambda: 0)()", "lambda"),
+    ("[y for x.attr in [1]]", "comprehension may only assign"),
+])
+def test_guard_rejects(expression, reason):
+    import xacro
+
+    from urdftool.safe_eval import Evaluator, UnsafeExpression
+
+    with pytest.raises(UnsafeExpression, match=reason):
+        Evaluator().eval_expression(expression, xacro.Table(xacro._global_symbols))
+
+
+@pytest.mark.parametrize("expression", [
+    "1 + 2 * 3 ** 2 / 4 - 5 // 2 % 3", "pi / 2", "math.radians(90)", "sin(0.5) + cos(0.5)",
+    "python.sorted([3, 1, 2], reverse=True)", "'-'.join(['a', 'b'])", "'a_b'.split('_')[1]",
+    "'%s_%d' % ('link', 3)", "'{}_{:.2f}'.format('x', 1.234)", "str.upper('x')",
+    "[i * i for i in python.range(5) if i % 2]", "python.dict(a=1).get('a')",
+    "1 if True else 2", "not (1 < 2 <= 3) or 4 in [4]", "python.list(python.zip('ab', [1, 2]))",
+    "xacro.dotify(python.dict(a=python.dict(b=2))).a.b", "python.abs(-1.5)", "round(1.23456, 2)",
+    "float('1e-3') + int('2')", "[1, 2, 3][::-1]", "max([1, 5, 2])", "len('abc')",
+    "python.sum(x for x in [1, 2])", "-(3).real", "'X'.lower().startswith('x')",
+    "python.isinstance(1.0, float)", "python.list(python.map(str, [1, 2]))",
+    "dict.fromkeys(['a'], 0)", "sorted(python.dict(b=1, a=2).items())", "2 ** 10 << 2",
+])
+def test_guard_allows_and_agrees_with_xacro(expression):
+    import xacro
+
+    from urdftool.safe_eval import Evaluator
+
+    plain = xacro.safe_eval(expression, xacro.Table(xacro._global_symbols))
+    ours = Evaluator().eval_expression(expression, xacro.Table(xacro._global_symbols))
+    assert ours == plain and type(ours) is type(plain)
+
+
+# -- limits: never a hang ---------------------------------------------------------------------
+
+
+PATHOLOGICAL = {
+    "recursive-macro": '  <xacro:macro name="loop"><xacro:loop/></xacro:macro>\n  <xacro:loop/>\n',
+    "exponential": '  <xacro:macro name="twice" params="n"><xacro:if value="${n > 0}">'
+                   '<xacro:twice n="${n-1}"/><xacro:twice n="${n-1}"/></xacro:if>'
+                   '<link name="l${n}"/></xacro:macro>\n  <xacro:twice n="40"/>\n',
+    "huge-number": '  <link name="${10**10**10}"/>\n',
+    "huge-string": '  <link name="${\'x\' * 10**10}"/>\n',
+    "long-loop": '  <link name="${python.sum([1 for i in python.range(10**7) '
+                 'for j in python.range(10**7)])}"/>\n',
+    "recursive-property": '  <xacro:property name="a" value="${b}"/>\n'
+                          '  <xacro:property name="b" value="${a}"/>\n  <link name="${a}"/>\n',
+}
+
+
+@pytest.mark.parametrize("kind", sorted(PATHOLOGICAL))
+@pytest.mark.parametrize("mode", ["--trusted", "--untrusted"])
+def test_pathological_input_stops_within_the_limit(kind, mode, tmp_path):
+    path = tmp_path / f"{kind}.urdf.xacro"
+    path.write_text(HEAD + PATHOLOGICAL[kind] + TAIL, encoding="utf-8")
+    started = time.monotonic()
+    result = run_urdftool("check", "--format", "json", mode, "--timeout", "2", path)
+    elapsed = time.monotonic() - started
+    assert elapsed < 2 + 3, f"{kind} took {elapsed:.1f} s"
+    assert result.code == 1, result.err
+    rules = {d["rule"] for f in json.loads(result.out)["files"] for d in f["diagnostics"]}
+    expected = "xacro.error" if kind == "recursive-property" else "xacro.limit-exceeded"
+    assert expected in rules, rules
+
+
+@pytest.mark.parametrize("mode", ["--trusted", "--untrusted"])
+def test_huge_include_is_refused_without_reading_it(mode, tmp_path, monkeypatch):
+    big = tmp_path / "big.xacro"
+    with open(big, "wb") as stream:  # 1 GB, sparse: no disk used
+        stream.truncate(1 << 30)
+    path = tmp_path / "robot.urdf.xacro"
+    path.write_text(HEAD + '  <xacro:include filename="big.xacro"/>\n' + TAIL)
+    monkeypatch.chdir(tmp_path)
+    started = time.monotonic()
+    result = run_urdftool("check", "--format", "json", mode, path)
+    assert time.monotonic() - started < 5
+    diagnostics = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]]
+    assert any(d["rule"] == "xacro.limit-exceeded" and "big.xacro" in d["message"]
+               for d in diagnostics), diagnostics
+
+
+def test_sandbox_memory_limit(tmp_path):
+    """A memory bomb the guards let through ('x' * 10**7, then replaced by itself) dies on the
+    child's RLIMIT_AS, not on the machine."""
+    path = tmp_path / "bomb.urdf.xacro"
+    path.write_text(HEAD + '  <xacro:property name="s" value="${\'x\' * 10**7}"/>\n'
+                    '  <link name="${python.len(s.replace(\'x\', s))}"/>\n' + TAIL)
+    started = time.monotonic()
+    result = run_urdftool("check", "--format", "json", "--untrusted", "--memory-limit", "256",
+                          "--timeout", "20", path)
+    assert time.monotonic() - started < 20
+    rules = {d["rule"] for f in json.loads(result.out)["files"] for d in f["diagnostics"]}
+    assert "xacro.limit-exceeded" in rules
+
+
+def test_sandbox_child_is_killed_at_the_deadline():
+    from urdftool.safe_eval import LimitExceeded
+    from urdftool.sandbox import run_isolated
+
+    started = time.monotonic()
+    with pytest.raises(LimitExceeded, match="longer than"):
+        run_isolated(time.sleep, (30,), timeout=0.5, memory_mb=256, env={})
+    assert time.monotonic() - started < 3
+
+
+def test_sandbox_environment_is_scrubbed(monkeypatch):
+    from urdftool.sandbox import run_isolated
+
+    monkeypatch.setenv("URDFTOOL_SECRET", "hunter2")
+    seen = run_isolated(lambda: dict(os.environ), (), timeout=10, memory_mb=256,
+                        env={"ALLOWED": "yes"})
+    assert seen == {"ALLOWED": "yes"}
+
+
+class _Exploit:
+    def __init__(self, marker):
+        self.marker = marker
+
+    def __reduce__(self):
+        return os.system, (f"touch {self.marker}",)
+
+
+def test_sandbox_result_is_json_not_pickle(tmp_path):
+    """A subverted child can only send data: a pickle that would run a command in the parent
+    is just an unreadable result."""
+    import pickle
+
+    from urdftool.sandbox import SandboxFailure, run_isolated
+
+    marker = tmp_path / "PWNED-parent"
+
+    def send_pickle():
+        payload = pickle.dumps(_Exploit(marker))
+        for name in os.listdir("/proc/self/fd"):
+            try:
+                os.write(int(name), payload)
+            except OSError:
+                pass
+        os._exit(0)
+
+    with pytest.raises(SandboxFailure):
+        run_isolated(send_pickle, (), timeout=10, memory_mb=256, env={})
+    assert not marker.exists()
