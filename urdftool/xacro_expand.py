@@ -191,6 +191,15 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         root = parse_text(text, shown, source)
         if root is None:
             raise xacro.XacroException(f"{shown}: not well-formed XML")
+        info = root.getroottree().docinfo
+        dtd = info.internalDTD
+        if info.system_url or info.public_id or (dtd is not None and any(dtd.iterentities())):
+            refused = xacro.XacroException(
+                "a DOCTYPE that declares entities or names an external DTD: urdftool neither "
+                "loads DTDs nor expands entities, so the file is not expanded")
+            line = text.count("\n", 0, max(text.find("<!DOCTYPE"), 0)) + 1
+            refused.urdftool_loc = f"{files.index(shown)}:{line}:0"
+            raise refused
         if _scan_expressions(root, text, shown, source):
             raise _Reported()
         _tag_elements(root, files.index(shown), text)
