@@ -51,8 +51,8 @@ def is_robot(path: Path) -> bool:
     return bool(_MOVING.search(path.read_text(encoding="utf-8", errors="replace")))
 
 
-def run(files: list[Path], jobs: int, duration: float) -> tuple[list, float]:
-    options = SimOptions(duration=duration, jobs=jobs)
+def run(files: list[Path], jobs: int, duration: float, **extra) -> tuple[list, float]:
+    options = SimOptions(duration=duration, jobs=jobs, **extra)
     started = time.perf_counter()
     results = simulate([str(f) for f in files], options)
     return results, time.perf_counter() - started
@@ -72,6 +72,12 @@ def main() -> int:
     serial, serial_wall = run(files, 1, args.duration)
     parallel, parallel_wall = run(files, args.jobs, args.duration) if args.jobs > 1 else (None, None)
 
+    # a failing model that is not anchored: would it pass mounted (an arm, a hand, a pendulum
+    # whose URDF has no 'world' link)?
+    retry = [p for p, r in zip(files, serial) if r.verdict == "fail" and r.anchored is False]
+    mounted = dict(zip(retry, run(retry, args.jobs, args.duration, fixed_base=True)[0])) \
+        if retry else {}
+
     rows = []
     for (origin, path), result in zip(entries, serial):
         timing = result.timing
@@ -82,14 +88,25 @@ def main() -> int:
             "links": result.links, "wall_s": timing.get("total"), "load_s": timing.get("load"),
             "simulate_s": timing.get("simulate"), "rtf": result.real_time_factor,
             "anchored": result.anchor_reason if result.anchored else None,
+            "cpu_s": timing.get("cpu"),
+            "fixed_base": mounted[path].verdict if path in mounted else None,
+            "fixed_base_failed": [c.check for c in mounted[path].failures()]
+            if path in mounted else None,
         })
-    print(f"{'model':58} {'verdict':7} {'links':>5} {'wall':>6} {'load':>6} {'rtf':>6}  failed")
+    print(f"{'model':58} {'verdict':7} {'links':>5} {'wall':>6} {'cpu':>6} {'load':>6} {'rtf':>6}"
+          "  failed")
     for row in rows:
         def num(value, fmt):
             return format(value, fmt) if value is not None else "-"
+        mounted_text = ""
+        if row["fixed_base"] is not None:
+            mounted_text = f"  [--fixed-base: {row['fixed_base']}" + (
+                f" {', '.join(c[4:] for c in row['fixed_base_failed'])}]"
+                if row["fixed_base_failed"] else "]")
         print(f"{row['model'][:58]:58} {row['verdict']:7} {num(row['links'], 'd'):>5} "
-              f"{num(row['wall_s'], '.2f'):>6} {num(row['load_s'], '.2f'):>6} "
-              f"{num(row['rtf'], '.0f'):>6}  {', '.join(c[4:] for c in row['failed'])}")
+              f"{num(row['wall_s'], '.2f'):>6} {num(row['cpu_s'], '.2f'):>6} "
+              f"{num(row['load_s'], '.2f'):>6} {num(row['rtf'], '.0f'):>6}  "
+              f"{', '.join(c[4:] for c in row['failed'])}{mounted_text}")
     robots = [r for r in rows if r["robot"]]
     print()
     print(f"{len(rows)} models ({len(robots)} robots): "
@@ -105,8 +122,9 @@ def main() -> int:
     total_load = sum(r["load_s"] or 0 for r in rows)
     total_sim = sum(r["simulate_s"] or 0 for r in rows)
     total_model = sum(r["wall_s"] or 0 for r in rows)
-    print(f"sum over models: wall {total_model:.2f} s, of which PyBullet load {total_load:.2f} s, "
-          f"stepping {total_sim:.2f} s")
+    total_cpu = sum(r["cpu_s"] or 0 for r in rows)
+    print(f"sum over models: wall {total_model:.2f} s (CPU {total_cpu:.2f} s), of which PyBullet "
+          f"load {total_load:.2f} s, stepping {total_sim:.2f} s")
     print(f"-j 1 total: {serial_wall:.2f} s")
     if parallel is not None:
         print(f"-j {args.jobs} total: {parallel_wall:.2f} s (speed-up {serial_wall / parallel_wall:.2f}x)")
@@ -117,12 +135,13 @@ def main() -> int:
     if args.json:
         Path(args.json).write_text(json.dumps(rows, indent=1), encoding="utf-8")
     if args.markdown:
-        lines = ["| model | verdict | failed checks | links | wall s | load s |",
-                 "|---|---|---|---|---|---|"]
+        lines = ["| model | verdict | failed checks | --fixed-base | links | wall s | load s |",
+                 "|---|---|---|---|---|---|---|"]
         for row in rows:
             failed = "; ".join(f"{c[4:]}: {row['messages'][c]}" for c in row["failed"])
             lines.append(f"| {row['model']}{'' if row['robot'] else ' (object)'} | "
-                         f"{row['verdict']} | {failed.replace('|', '/')} | {row['links']} | "
+                         f"{row['verdict']} | {failed.replace('|', '/')} | "
+                         f"{row['fixed_base'] or ''} | {row['links']} | "
                          f"{row['wall_s']:.2f} | {(row['load_s'] or 0):.2f} |")
         Path(args.markdown).write_text("\n".join(lines) + "\n", encoding="utf-8")
     return 0

@@ -55,9 +55,11 @@ def _joined_messages(text: str) -> list[str]:
     return merged
 
 
-def run_model(path: str, options: SimOptions, from_directory: bool = False) -> ModelResult:
-    """Simulate one model and judge it. Raises ToolError only if the file cannot be read."""
-    started = time.perf_counter()
+def run_model(path: str, options: SimOptions, from_directory: bool = False,
+              picture: str | None = None) -> ModelResult:
+    """Simulate one model and judge it; with ``picture``, write the pictures of it at rest there
+    (and beside it, ``-collision.png``). Raises ToolError only if the file cannot be read."""
+    started, cpu = time.perf_counter(), time.process_time()
     result = ModelResult(path=str(path))
     prepared = prepare(path, options, from_directory)
     result.robot = prepared.robot
@@ -70,7 +72,7 @@ def run_model(path: str, options: SimOptions, from_directory: bool = False) -> M
             return result
         result.anchored, result.anchor_reason = prepared.anchored, prepared.anchor_reason
         with captured_fds() as printed:
-            run = _Run(prepared, options, result)
+            run = _Run(prepared, options, result, picture)
             try:
                 run.execute()
             finally:
@@ -98,13 +100,16 @@ def run_model(path: str, options: SimOptions, from_directory: bool = False) -> M
     finally:
         prepared.cleanup()
         result.timing["total"] = time.perf_counter() - started
+        result.timing["cpu"] = time.process_time() - cpu
 
 
 class _Run:
     """The PyBullet session of one model."""
 
-    def __init__(self, prepared: Prepared, options: SimOptions, result: ModelResult):
+    def __init__(self, prepared: Prepared, options: SimOptions, result: ModelResult,
+                 picture: str | None = None):
         self.prepared, self.options, self.result = prepared, options, result
+        self.picture = picture
         self.limits = options.thresholds
         self.load_error: str | None = None
         self.client = None
@@ -132,7 +137,7 @@ class _Run:
             body = p.loadURDF(prepared.urdf_file, [0, 0, 0], [0, 0, 0, 1],
                               useFixedBase=prepared.anchored,
                               flags=pybullet.URDF_USE_INERTIA_FROM_FILE | (
-                                  0 if self.options.render else pybullet.URDF_IGNORE_VISUAL_SHAPES))
+                                  0 if self.picture else pybullet.URDF_IGNORE_VISUAL_SHAPES))
         except pybullet.error as exc:
             self.load_error = str(exc).strip() or "cannot load the URDF"
             result.timing["load"] = time.perf_counter() - started
@@ -177,12 +182,14 @@ class _Run:
         started = time.perf_counter()
         self._judge()
         result.timing["checks"] = checks_time + time.perf_counter() - started
-        if self.options.render:
+        if self.picture and self.nan_at is None:
             from urdftool.sim.render import render_model
 
             started = time.perf_counter()
-            result.images = render_model(self, self.options)
+            result.images = render_model(self, self.picture)
             result.timing["render"] = time.perf_counter() - started
+        elif self.picture:
+            result.notes.append("no picture: the state became NaN")
 
     def _mass(self) -> CheckResult:
         p, prepared = self.client, self.prepared
@@ -235,6 +242,18 @@ class _Run:
                                      ", ".join(unknown))
         boxes = {i: p.getAABB(self.body, i) for i in self.collision_links}
         failing, ancestral = [], []
+        # PyBullet answers closest-point queries between links of one body only for the pairs
+        # its self-collision filter lets through (not siblings, for one): ask a second copy
+        import pybullet
+
+        position, orientation = p.getBasePositionAndOrientation(self.body)
+        twin = p.loadURDF(self.prepared.urdf_file, position, orientation, useFixedBase=True,
+                          flags=pybullet.URDF_USE_INERTIA_FROM_FILE |
+                          pybullet.URDF_IGNORE_VISUAL_SHAPES)
+        p.resetBasePositionAndOrientation(twin, position, orientation)
+        for index, fact in self.controlled:
+            p.resetJointState(twin, index, fact.home)
+        p.performCollisionDetection()
         for a, b in combinations(self.collision_links, 2):
             name_a, name_b = self.link_names[a], self.link_names[b]
             relation = prepared.relation(name_a, name_b)
@@ -243,13 +262,15 @@ class _Run:
             (lo_a, hi_a), (lo_b, hi_b) = boxes[a], boxes[b]
             if any(lo_a[k] > hi_b[k] or lo_b[k] > hi_a[k] for k in range(3)):
                 continue
-            points = p.getClosestPoints(self.body, self.body, 0.0, a, b)
+            points = p.getClosestPoints(self.body, twin, 0.0, a, b)
             if not points:
                 continue
             depth = -min(point[8] for point in points)
             if depth > self.limits.collision_depth:
                 (ancestral if relation == "ancestor" and not strict else failing).append(
                     (name_a, name_b, depth))
+
+        p.removeBody(twin)
 
         def listing(pairs):
             pairs.sort(key=lambda pair: -pair[2])
@@ -579,11 +600,15 @@ def _local(orientations, angular):
     """Angular velocities in each link's principal inertia frame (quaternions x, y, z, w)."""
     import numpy as np
 
-    x, y, z, w = orientations.T
-    # rotate by the conjugate quaternion: v' = v + 2 u x (u x v + w' v) with u = -q.xyz, w' = w
-    u = -np.stack([x, y, z], axis=1)
-    t = 2.0 * np.cross(u, angular)
-    return angular + w[:, None] * t + np.cross(u, t)
+    x, y, z, w = orientations[:, 0], orientations[:, 1], orientations[:, 2], orientations[:, 3]
+    vx, vy, vz = angular[:, 0], angular[:, 1], angular[:, 2]
+    # v' = v + w t - q x t with t = -2 q x v (the rotation by the conjugate quaternion)
+    tx, ty, tz = -2 * (y * vz - z * vy), -2 * (z * vx - x * vz), -2 * (x * vy - y * vx)
+    out = np.empty_like(angular)
+    out[:, 0] = vx + w * tx - (y * tz - z * ty)
+    out[:, 1] = vy + w * ty - (z * tx - x * tz)
+    out[:, 2] = vz + w * tz - (x * ty - y * tx)
+    return out
 
 
 def _tilt_degrees(start, end) -> float:

@@ -74,7 +74,14 @@ class Prepared:
     unresolved: list[str] = field(default_factory=list)  # mesh URIs that do not resolve
     notes: list[str] = field(default_factory=list)
     xml_problem: str | None = None  # the first XML problem of a URDF (PyBullet may cope)
+    mesh_paths: dict[str, str] = field(default_factory=dict)  # mesh URI as written -> file
     _tempdir: tempfile.TemporaryDirectory | None = field(default=None, repr=False)
+
+    def scratch_dir(self) -> str:
+        """A temporary folder of this model's own (removed by ``cleanup``)."""
+        if self._tempdir is None:
+            self._tempdir = tempfile.TemporaryDirectory(prefix="urdftool-sim-")
+        return self._tempdir.name
 
     def cleanup(self) -> None:
         if self._tempdir is not None:
@@ -298,9 +305,8 @@ def _strip_world(root, prepared: Prepared) -> bool:
 
 
 def _temp_path(prepared: Prepared) -> Path:
-    prepared._tempdir = tempfile.TemporaryDirectory(prefix="urdftool-sim-")
     name = Path(prepared.path).name.split(".")[0] or "model"
-    path = Path(prepared._tempdir.name) / f"{name}.urdf"
+    path = Path(prepared.scratch_dir()) / f"{name}.urdf"
     prepared.temp_file = str(path)
     return path
 
@@ -406,7 +412,7 @@ def prepare(path: str, options, from_directory: bool = False) -> Prepared:
         prepared.anchored = True
         prepared.anchor_reason = (f"root link '{prepared.root_link}' has zero mass: "
                                   "PyBullet keeps it static")
-    problem = _visual_meshes(robot, source)
+    problem = _visual_meshes(robot, source, prepared)
     if problem:
         prepared.problem = problem
         return prepared
@@ -427,10 +433,16 @@ def prepare(path: str, options, from_directory: bool = False) -> Prepared:
 PYBULLET_MESH_SUFFIXES = (".obj", ".stl", ".dae")
 
 
-def _visual_meshes(robot: Robot, source) -> str | None:
+def _visual_meshes(robot: Robot, source, prepared: Prepared) -> str | None:
     """PyBullet refuses a model whose visual mesh it cannot find or read. The simulation loads
     without visual shapes (ten times faster), so that refusal is checked here, the same way
     with and without --render."""
+    for link in robot.links:
+        for shape in link.shapes:
+            filename = shape.geometry.filename if shape.geometry.kind == "mesh" else None
+            resolved = _resolve(filename, source) if filename else None
+            if resolved is not None:
+                prepared.mesh_paths[filename] = str(resolved)
     for link in robot.links:
         for shape in link.visuals:
             filename = shape.geometry.filename if shape.geometry.kind == "mesh" else None

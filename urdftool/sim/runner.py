@@ -31,10 +31,42 @@ def _init_worker() -> None:
         import pybullet_data  # noqa: F401
 
 
-def _work(path: str, options: SimOptions, from_directory: bool) -> ModelResult:
+def _work(path: str, options: SimOptions, from_directory: bool,
+          picture: str | None) -> ModelResult:
     from urdftool.sim.engine import run_model
 
-    return run_model(path, options, from_directory)
+    return run_model(path, options, from_directory, picture)
+
+
+def picture_paths(files: list[str], render: str | None) -> list[str | None]:
+    """Where each model's picture goes. One model and a file name: that file. A directory (an
+    existing one, or a name ending in '/'): DIR/MODEL.png. Several models and a file name
+    NAME.png: NAME-MODEL.png beside it. MODEL is the file name without .urdf/.xacro/.sdf (the whole
+    file name, then the folder in front, when two models would share it)."""
+    if not render:
+        return [None] * len(files)
+    def plain(name: str) -> str:
+        while Path(name).suffix in (".urdf", ".xacro", ".sdf"):
+            name = name[:-len(Path(name).suffix)]
+        return name or "model"
+
+    names = [plain(Path(f).name) for f in files]
+    names = [Path(f).name.replace(".", "_") if names.count(n) > 1 else n
+             for f, n in zip(files, names)]
+    names = [f"{Path(f).parent.name}_{n}" if names.count(n) > 1 else n
+             for f, n in zip(files, names)]
+    seen: dict[str, int] = {}
+    for index, name in enumerate(names):  # still equal: number them
+        seen[name] = seen.get(name, 0) + 1
+        if seen[name] > 1:
+            names[index] = f"{name}-{seen[name]}"
+    target = Path(render)
+    if target.is_dir() or render.endswith(("/", os.sep)):
+        return [str(target / f"{name}.png") for name in names]
+    if len(files) == 1:
+        return [str(target if target.suffix.lower() == ".png" else target.with_suffix(".png"))]
+    stem = target.name[:-len(target.suffix)] if target.suffix else target.name
+    return [str(target.with_name(f"{stem}-{name}.png")) for name in names]
 
 
 def _context():
@@ -81,12 +113,13 @@ def _crashed(path: str, code: str) -> ModelResult:
 def run_all(paths: list[str], options: SimOptions) -> list[ModelResult]:
     files = model_files(paths)
     require_pybullet()
+    pictures = picture_paths([f for f, _ in files], options.render)
     results: list[ModelResult | None] = [None] * len(files)
     jobs = max(1, min(options.jobs, len(files)))
     context = _context()
     try:
         with ProcessPoolExecutor(jobs, mp_context=context, initializer=_init_worker) as pool:
-            futures = {pool.submit(_work, path, options, from_directory): index
+            futures = {pool.submit(_work, path, options, from_directory, pictures[index]): index
                        for index, (path, from_directory) in enumerate(files)}
             for future in as_completed(futures):
                 try:
@@ -100,7 +133,8 @@ def run_all(paths: list[str], options: SimOptions) -> list[ModelResult]:
             path, from_directory = files[index]
             with ProcessPoolExecutor(1, mp_context=context, initializer=_init_worker) as pool:
                 try:
-                    results[index] = pool.submit(_work, path, options, from_directory).result()
+                    results[index] = pool.submit(_work, path, options, from_directory,
+                                                 pictures[index]).result()
                 except BrokenProcessPool:
                     results[index] = _crashed(path, "the worker process died")
     return [r for r in results if r is not None]
