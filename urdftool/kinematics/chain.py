@@ -172,7 +172,7 @@ class _Tree:
             if not kids:
                 leaves.append((link, moved))
             for joint in reversed(kids):
-                stack.append((joint.child, moved or joint.type in MOVABLE))
+                stack.append((joint.child, moved or joint.moving))
         order = {name: i for i, name in enumerate(self.links)}
         return sorted(leaves, key=lambda item: order.get(item[0], len(order)))
 
