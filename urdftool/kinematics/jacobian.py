@@ -104,9 +104,16 @@ def parse_number(text: str) -> float:
     """A float, or a small arithmetic expression with ``pi`` (``-pi/2``, ``3*pi/4``)."""
     text = text.strip()
     try:
-        return float(text)
+        result = float(text)
     except ValueError:
-        pass
+        result = _expression(text)
+    if not math.isfinite(result):
+        raise ToolError(f"--q: {text!r} is not a finite number")
+    return result
+
+
+def _expression(text: str) -> float:
+    """Numbers, pi, + - * / and parentheses: nothing else is evaluated."""
 
     def value(node):
         if isinstance(node, ast.Expression):
@@ -125,10 +132,8 @@ def parse_number(text: str) -> float:
         if len(text) > 100:
             raise ValueError(text)
         result = value(ast.parse(text.replace("π", "pi"), mode="eval"))
-    except (SyntaxError, ValueError, ZeroDivisionError, RecursionError):
+    except (SyntaxError, ValueError, ZeroDivisionError, RecursionError, OverflowError):
         raise ToolError(f"--q: {text!r} is not a number") from None
-    if not math.isfinite(result):
-        raise ToolError(f"--q: {text!r} is not finite")
     return result
 
 
