@@ -41,13 +41,6 @@ def test_a_good_joint_is_quiet(write):
     assert rules(write, robot(GOOD)) == []
 
 
-def test_unknown_type_with_suggestion_and_spherical(write):
-    found = diagnostics(write, robot("TYPE=revolut " + GOOD, "TYPE=spherical <axis xyz='0 0 1'/>"))
-    assert [d.rule for d in found] == ["joint.unknown-type", "joint.unknown-type"]
-    assert "revolute" in found[0].hint
-    assert "PyBullet extension" in found[1].message
-
-
 def test_missing_limit_on_revolute_and_prismatic_but_not_continuous(write):
     text = robot("TYPE=revolute <axis xyz='0 0 1'/>", "TYPE=prismatic <axis xyz='0 0 1'/>",
                  "TYPE=continuous <axis xyz='0 0 1'/>")
@@ -57,12 +50,10 @@ def test_missing_limit_on_revolute_and_prismatic_but_not_continuous(write):
     assert "continuous" in found[0].hint and "metres" in found[1].hint
 
 
-def test_incomplete_limit_needs_effort_and_velocity_on_any_type(write):
-    text = robot('<limit lower="-1" upper="1" velocity="1"/>',
-                 'TYPE=continuous <limit effort="1"/>', GOOD)
-    found = diagnostics(write, text)
-    assert [d.rule for d in found] == ["joint.incomplete-limit"] * 2
-    assert "without effort" in found[0].message and "without velocity" in found[1].message
+def test_type_and_limit_attributes_are_left_to_schema(write):
+    # an unknown type and a <limit> without effort/velocity are schema findings, not joint ones
+    text = robot("TYPE=revolut " + GOOD, '<limit lower="-1" upper="1"/>')
+    assert rules(write, text) == []
 
 
 def test_lower_above_upper(write):

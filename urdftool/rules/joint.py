@@ -3,9 +3,9 @@ calibration.
 
 What the consumers do, which decides the severities here:
 
-- urdfdom (ROS, check_urdf, MoveIt, Pinocchio) refuses an unknown joint type, a revolute or
-  prismatic joint without ``<limit>``, and a ``<limit>`` without ``effort`` or ``velocity``
-  (on any joint type). Missing ``lower``/``upper`` default to 0, which freezes the joint.
+- urdfdom (ROS, check_urdf, MoveIt, Pinocchio) refuses a revolute or prismatic joint without
+  ``<limit>``. Missing ``lower``/``upper`` default to 0, which freezes the joint. (An unknown
+  joint type and a ``<limit>`` without ``effort``/``velocity`` are ``schema`` findings.)
 - PyBullet reads a missing ``lower``/``upper`` as "no limit" (its defaults are 0 and -1, and
   Bullet treats lower > upper as unlimited), does not enforce ``effort``/``velocity`` from
   the file, and freezes a joint whose lower equals upper.
@@ -18,10 +18,9 @@ here skips them.
 
 from __future__ import annotations
 
-import difflib
 import math
 
-from urdftool.model import JOINT_TYPES, Joint, Robot
+from urdftool.model import Joint, Robot
 from urdftool.report import Finding
 from urdftool.rules import rule
 
@@ -86,31 +85,6 @@ def mimic_followers(robot: Robot) -> set[str]:
 # -- types and <limit> presence --------------------------------------------------------------
 
 
-@rule("joint.unknown-type", "error", "a joint's type is not one URDF knows",
-      doc="""URDF joint types are revolute, continuous, prismatic, fixed, floating and planar.
-      urdfdom (ROS, MoveIt, check_urdf) refuses the whole file when a joint has another type.
-      `spherical` is a PyBullet extension: PyBullet loads it, every ROS tool refuses it.""",
-      bad='<robot name="r"><link name="a"/><link name="b"/>\n'
-          '  <joint name="j" type="revolut"><parent link="a"/><child link="b"/>\n'
-          '    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n</robot>',
-      good='<robot name="r"><link name="a"/><link name="b"/>\n'
-           '  <joint name="j" type="revolute"><parent link="a"/><child link="b"/>\n'
-           '    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n</robot>')
-def unknown_type(robot: Robot):
-    for joint in robot.joints:
-        if joint.type is None or joint.type in JOINT_TYPES:
-            continue  # a missing type attribute is a schema finding
-        if joint.type == "spherical":
-            yield Finding(f"{label(joint)}: type 'spherical' is a PyBullet extension, not URDF; "
-                          "urdfdom-based tools (ROS, MoveIt, Pinocchio) refuse the file",
-                          joint.loc, hint="model a ball joint as three revolute joints through "
-                                          "two massless links, or keep this file PyBullet-only")
-            continue
-        close = difflib.get_close_matches(joint.type.lower(), JOINT_TYPES, n=1, cutoff=0.6)
-        hint = f"did you mean '{close[0]}'?" if close else "use one of " + ", ".join(JOINT_TYPES)
-        yield Finding(f"{label(joint)}: unknown type '{joint.type}'", joint.loc, hint=hint)
-
-
 @rule("joint.missing-limit", "error", "a revolute or prismatic joint has no <limit>",
       doc="""urdfdom requires `<limit effort=".." velocity=".."/>` on revolute and prismatic
       joints and refuses the file without it ("Joint [j] is of type REVOLUTE but it does not
@@ -131,29 +105,6 @@ def missing_limit(robot: Robot):
                 hint += " (metres)"
             yield Finding(f"{label(joint)}: {joint.type} joint without <limit>; urdfdom refuses "
                           "the file", joint.loc, hint=hint)
-
-
-@rule("joint.incomplete-limit", "error", "a <limit> lacks effort or velocity",
-      doc="""urdfdom requires both `effort` and `velocity` on every `<limit>` (whatever the
-      joint type) and refuses the file without them ("joint limit: no effort").""",
-      bad='<robot name="r"><link name="a"/><link name="b"/>\n'
-          '  <joint name="j" type="revolute"><parent link="a"/><child link="b"/>\n'
-          '    <limit lower="-1" upper="1"/></joint>\n</robot>',
-      good='<robot name="r"><link name="a"/><link name="b"/>\n'
-           '  <joint name="j" type="revolute"><parent link="a"/><child link="b"/>\n'
-           '    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n</robot>')
-def incomplete_limit(robot: Robot):
-    for joint, element in joint_elements(robot):
-        node = child(element, "limit")
-        if node is None or joint.limit is None:
-            continue
-        missing = [a for a in ("effort", "velocity") if node.get(a) is None]
-        if missing:
-            what = " and ".join(missing)
-            attributes = " ".join(f'{a}=".."' for a in missing)
-            yield Finding(f"{label(joint)}: <limit> without {what}; urdfdom refuses the file",
-                          joint.limit.loc, hint=f"add {attributes} (effort in N·m or N, "
-                                                "velocity in rad/s or m/s)")
 
 
 # -- ranges ----------------------------------------------------------------------------------

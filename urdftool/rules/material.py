@@ -133,46 +133,6 @@ def no_color(robot: Robot):
                           hint='add <color rgba="R G B A"/> (each in [0, 1])')
 
 
-@rule("material.bad-color", "warning", "an rgba that is not four numbers in [0, 1]",
-      doc="""URDF colours are four numbers red, green, blue, alpha, each in [0, 1]. urdfdom
-      rejects a component outside [0, 1] ("outside the valid range for colors") and ignores a
-      colour with the wrong number of components: the default colour is used instead. 0–255
-      values are the usual slip: divide by 255.""",
-      bad='<robot name="r">\n  <material name="orange"><color rgba="255 128 0 1"/></material>\n'
-          '</robot>',
-      good='<robot name="r">\n  <material name="orange"><color rgba="1 0.502 0 1"/></material>\n'
-           '</robot>')
-def bad_color(robot: Robot):
-    if robot.root is None:
-        return
-    for node in robot.root.iter("color"):
-        parent = node.getparent()
-        if parent is None or parent.tag != "material" or node.get("rgba") is None:
-            continue
-        text = node.get("rgba")
-        values = [parse_float(part) for part in text.split()]
-        if any(v is None for v in values):
-            continue  # not numbers at all: a schema finding
-        if len(values) != 4:
-            yield Finding(f"material '{parent.get('name')}': rgba '{text.strip()}' has "
-                          f"{len(values)} components, not 4; urdfdom ignores it",
-                          robot.loc(node),
-                          hint="write red green blue alpha, e.g. rgba=\"0.5 0.5 0.5 1\"")
-            continue
-        if all(0 <= v <= 1 for v in values):  # type: ignore[operator]
-            continue
-        if all(0 <= v <= 255 for v in values):  # type: ignore[operator]
-            fixed = " ".join(f"{min(v / 255, 1.0):.4g}" if v > 1 else f"{v:g}"  # type: ignore
-                             for v in values)
-            hint = f'looks like 0-255 values: rgba="{fixed}"'
-        else:
-            fixed = " ".join(f"{min(max(v, 0.0), 1.0):g}" for v in values)  # type: ignore
-            hint = f'clamp to [0, 1]: rgba="{fixed}"'
-        yield Finding(f"material '{parent.get('name')}': rgba '{' '.join(text.split())}' has "
-                      "components outside [0, 1]; urdfdom rejects the colour", robot.loc(node),
-                      hint=hint)
-
-
 @rule("material.not-unique", "error", "a top-level material name defined twice",
       doc="""urdfdom refuses a file in which two top-level `<material>` elements share a name
       ("material 'grey' is not unique"), even when the colours agree. With xacro, this usually

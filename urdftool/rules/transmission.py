@@ -165,10 +165,10 @@ def _check_interface(robot: Robot, node):
                   severity="warning")
 
 
-@rule("transmission.zero-reduction", "error", "a mechanical reduction of zero or not a number",
-      doc="""The reduction scales actuator effort and position into joint effort and position;
-      0 divides by zero (joint positions become inf/NaN), and text that is not a number stops
-      the transmission parser.""",
+@rule("transmission.zero-reduction", "error", "a mechanical reduction of zero",
+      doc="""The reduction scales actuator effort and position into joint effort and position:
+      0 divides by zero, and joint positions and efforts become infinite or NaN. (A reduction
+      that is not a number at all is a `schema` finding.)""",
       bad=_JOINT + _transmission(reduction="0"),
       good=_JOINT + _transmission())
 def zero_reduction(robot: Robot):
@@ -178,10 +178,7 @@ def zero_reduction(robot: Robot):
             try:
                 value = float(text)
             except ValueError:
-                yield Finding(f"transmission '{transmission.get('name')}': mechanical reduction "
-                              f"'{text}' is not a number", robot.loc(node),
-                              hint="the gear ratio, e.g. 1 or 100")
-                continue
+                continue  # not a number: schema.bad-number
             if value == 0 or not math.isfinite(value):
                 yield Finding(f"transmission '{transmission.get('name')}': mechanical reduction "
                               f"{text}: joint positions and efforts become infinite",
