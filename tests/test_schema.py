@@ -365,3 +365,24 @@ def test_dual_arm_published_ryp_typos_are_found():
     assert found and all("'ryp'" in d.message and "'rpy'" in d.message for d in found)
     corrected = ROOT / "robots" / "dual_arm" / "corrected" / "test.xacro"
     assert [d for d in diagnostics(corrected) if d.severity != "info"] == []
+
+
+def test_rpy_and_quaternion_together(write):
+    path = write(robot('  <link name="a"/>\n  <joint name="ja" type="fixed">\n'
+                       '    <origin rpy="0 0 1" quat_xyzw="0 0 0 1"/>\n'
+                       '    <parent link="tool"/><child link="a"/>\n  </joint>',
+                       attrs='name="r" version="1.1"'))
+    [d] = fired(path, "schema.bad-value")
+    assert d.line == 5 and "rpy and quat_xyzw" in d.message
+
+
+@pytest.mark.parametrize("version, joint_type, fires", [
+    ("1.2", "revolute", True), ("1.2", "prismatic", True), ("1.2", "continuous", False),
+    ("1.1", "revolute", False)])
+def test_urdf_1_2_needs_both_position_limits(write, version, joint_type, fires):
+    path = write(robot('  <link name="a"/>\n  <joint name="ja" type="' + joint_type + '">\n'
+                       '    <parent link="tool"/><child link="a"/>\n'
+                       '    <limit upper="1" effort="1" velocity="1"/>\n  </joint>',
+                       attrs=f'name="r" version="{version}"'))
+    found = fired(path, "schema.missing-attribute")
+    assert [(d.line, "'lower'" in d.message) for d in found] == ([(6, True)] if fires else [])

@@ -229,6 +229,26 @@ class _Walk:
         for name, spec in allowed.items():
             if spec.get("required") and name not in element.attrib and not spec.get("reported_by"):
                 self.missing_attribute(element, tag, name, spec)
+        for group in definition.get("exclusive", ()):
+            given = [name for name in group if name in element.attrib]
+            if len(given) > 1:
+                self.add("schema.bad-value",
+                         f"<{tag}> gives both {' and '.join(given)}: urdfdom rejects it "
+                         "(use one or the other)", self.attr_loc(element, given[-1]),
+                         hint=f"remove {given[-1]}= or {given[0]}=")
+        parent = element.getparent()
+        for condition in definition.get("required_when", ()):
+            needed = _version_tuple(condition["since"])
+            if self.version is None or needed is None or self.version < needed:
+                continue
+            if parent is None or parent.get("type") not in condition["parent_type"]:
+                continue
+            for name in condition["attributes"]:
+                if name not in element.attrib:
+                    self.add("schema.missing-attribute",
+                             f"<{tag}> of {parent.get('type')} joint '{parent.get('name')}' has "
+                             f"no {name!r}: {condition['hint']}", self.robot.loc(element),
+                             hint=f'add {name}="..."')
 
     def unknown_attribute(self, element, tag: str, name: str, allowed: dict) -> None:
         candidates = [a for a in allowed if a not in element.attrib]
