@@ -79,10 +79,10 @@ def test_drive_geometry_agrees(write):
 
 def test_drive_geometry_separation_diameter_and_sides(write):
     diagnostics = found(write, BASE + diff_drive("0.35", "0.2", "right", "left"))
-    assert [(d.rule, d.line) for d in diagnostics] == [("gazebo.drive-geometry", 12),
+    assert [(d.rule, d.line) for d in diagnostics] == [("gazebo.drive-geometry", 10),
                                                        ("gazebo.drive-geometry", 13),
                                                        ("gazebo.drive-geometry", 14)]
-    sides, separation, diameter = diagnostics
+    sides, separation, diameter = diagnostics  # sides: at the <origin> of the "left" joint
     assert "right side" in sides.message
     assert "0.2 m apart" in separation.message and "<wheelSeparation>0.2<" in separation.hint
     assert "radius 0.05" in diameter.message and "<wheelDiameter>0.1<" in diameter.hint
@@ -131,12 +131,15 @@ def test_m2wr_published_diff_drive():
     path = _seed("published")
     diagnostics = check_file(path, CheckOptions(select=["gazebo"])).diagnostics
     lines = path.read_text().splitlines()
-    left = next(i for i, line in enumerate(lines, 1) if "<leftJoint>" in line)
     separation = next(i for i, line in enumerate(lines, 1) if "<wheelSeparation>" in line)
-    assert [(d.rule, d.line) for d in diagnostics] == [("gazebo.drive-geometry", left),
-                                                       ("gazebo.drive-geometry", separation)]
-    assert "right side" in diagnostics[0].message
-    assert "is 0.2 but" in diagnostics[1].message and "0.3 m apart" in diagnostics[1].message
+    left_joint = next(i for i, line in enumerate(lines, 1) if 'joint name="joint_left_wheel"'
+                      in line)
+    left_origin = next(i for i, line in enumerate(lines[left_joint:], left_joint + 1)
+                       if "<origin" in line)  # README: 117 / 144, the swapped origins
+    assert [(d.rule, d.line) for d in diagnostics] == [("gazebo.drive-geometry", separation),
+                                                       ("gazebo.drive-geometry", left_origin)]
+    assert "is 0.2 but" in diagnostics[0].message and "0.3 m apart" in diagnostics[0].message
+    assert "right side" in diagnostics[1].message
 
 
 def test_m2wr_corrected_is_clean():

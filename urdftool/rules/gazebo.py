@@ -379,8 +379,22 @@ def _check_pair(robot, base, left_joint, right_joint, left_node, left_pose, righ
                           "wrong", robot.loc(node), hint=f"<{tag}>{expected:g}</{tag}>")
     lateral = left_pose[1][1] - right_pose[1][1]
     if lateral < -1e-6:
-        yield Finding(f"the left wheel joint '{left_joint.name}' is on the robot's right side "
-                      f"(y = {left_pose[1][1]:.6g} m in '{base}', x forward) and the right one "
-                      f"on its left (y = {right_pose[1][1]:.6g} m): the robot turns the wrong "
-                      "way", robot.loc(left_node),
-                      hint="swap the joints' origins (or the plugin's left/right joints)")
+        plugin_line = robot.loc(left_node).line
+        where = f" (line {plugin_line})" if plugin_line else ""
+        yield Finding(f"the diff-drive's left wheel joint '{left_joint.name}'{where} is on the "
+                      f"robot's right side (y = {left_pose[1][1]:.6g} m in '{base}', x forward) "
+                      f"and its right wheel joint '{right_joint.name}' on the left "
+                      f"(y = {right_pose[1][1]:.6g} m): the robot turns the wrong way",
+                      _origin_loc(robot, left_joint),
+                      hint="swap the two joints' <origin>s (or the plugin's left/right joints)")
+
+
+def _origin_loc(robot: Robot, joint):
+    """Where a joint's <origin> was written (the joint itself when it has none)."""
+    from urdftool.rules.joint import child, joint_elements
+
+    for candidate, element in joint_elements(robot):
+        if candidate is joint:
+            origin = child(element, "origin")
+            return robot.loc(origin) if origin is not None else joint.loc
+    return joint.loc

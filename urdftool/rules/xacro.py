@@ -231,6 +231,15 @@ _EFFECT = {
       bad=_HEAD + '  <property name="width" value="0.3"/>\n  <link name="a"/>\n</robot>',
       good=_HEAD + '  <xacro:property name="width" value="0.3"/>\n  <link name="a"/>\n</robot>')
 def unprefixed_tag(robot: Robot):
+    for element in _unprefixed_tags(robot):
+        tag = element.tag
+        yield Finding(f"<{tag}> without the xacro: prefix is ignored by xacro 2 and copied into "
+                      f"the URDF: {_EFFECT[tag]}", robot.loc(element),
+                      hint=f"write {_rewrite(robot, element, tag)}"
+                           f"{_namespace_note(robot, element)}")
+
+
+def _unprefixed_tags(robot: Robot):
     if robot.root is None or robot.root.tag != "robot":
         return
     for element in robot.root.iter():
@@ -239,10 +248,7 @@ def unprefixed_tag(robot: Robot):
             continue
         if tag == "include" and _is_sdf_include(element):
             continue
-        yield Finding(f"<{tag}> without the xacro: prefix is ignored by xacro 2 and copied into "
-                      f"the URDF: {_EFFECT[tag]}", robot.loc(element),
-                      hint=f"write {_rewrite(robot, element, tag)}"
-                           f"{_namespace_note(robot, element)}")
+        yield element
 
 
 def _is_sdf_include(element) -> bool:
@@ -327,20 +333,10 @@ def macro_names(robot: Robot) -> dict[str, str]:
       good=_HEAD + '  <xacro:macro name="body"><link name="base"/></xacro:macro>\n'
                    '  <link name="world"/>\n  <xacro:body/>\n</robot>')
 def unprefixed_macro_call(robot: Robot):
-    if robot.root is None or robot.root.tag != "robot":
-        return
-    candidates = [e for e in robot.root.iter()
-                  if _plain_tag(e) and e is not robot.root and _plain_tag(e) not in XACRO_TAGS
-                  and _plain_tag(e) not in URDF_ELEMENTS and not _in_foreign_block(e)]
-    if not candidates:
-        return
-    macros = macro_names(robot)
     empty = not robot.links
-    for element in candidates:
+    for element, defined_in in _unprefixed_calls(robot):
         tag = element.tag
-        if tag not in macros:
-            continue
-        where = Path(macros[tag]).name
+        where = Path(defined_in).name
         message = (f"<{tag}> calls macro '{tag}' (defined in {where}) without the xacro: prefix; "
                    "xacro 2 copies it through unexpanded")
         if empty:
@@ -349,6 +345,27 @@ def unprefixed_macro_call(robot: Robot):
                       hint=f"write {_rewrite(robot, element, tag)}"
                            f"{_namespace_note(robot, element)}",
                       severity="error" if empty else None)
+
+
+def _unprefixed_calls(robot: Robot):
+    """(element, file defining the macro) for each macro called without the xacro: prefix."""
+    if robot.root is None or robot.root.tag != "robot":
+        return
+    candidates = [e for e in robot.root.iter()
+                  if _plain_tag(e) and e is not robot.root and _plain_tag(e) not in XACRO_TAGS
+                  and _plain_tag(e) not in URDF_ELEMENTS and not _in_foreign_block(e)]
+    if not candidates:
+        return
+    macros = macro_names(robot)
+    for element in candidates:
+        if element.tag in macros:
+            yield element, macros[element.tag]
+
+
+def unexpanded_xacro(robot: Robot) -> set:
+    """The elements the xacro rules report as old unprefixed xacro (tags and macro calls), for
+    other families to leave alone (e.g. not to call them unknown URDF elements)."""
+    return set(_unprefixed_tags(robot)) | {element for element, _ in _unprefixed_calls(robot)}
 
 
 # -- untrusted input (issue 8: urdftool.safe_eval, urdftool.sandbox) ---------------------------
