@@ -18,7 +18,6 @@ some tool's extension and only an info; an unknown geometry, which urdfdom rejec
 
 from __future__ import annotations
 
-import difflib
 import json
 import re
 from collections import Counter
@@ -39,8 +38,13 @@ def schema() -> dict:
     global _schema
     if _schema is None:
         with open(SCHEMA_PATH, encoding="utf-8") as handle:
-            _schema = json.load(handle)
-        _schema["_allowed_in"] = _allowed_in(_schema)
+            table = json.load(handle)
+        for definition in table["elements"].values():
+            children = {n: _child_spec(c) for n, c in definition.get("children", {}).items()}
+            definition["children"] = children
+            definition["_required"] = [n for n, c in children.items() if c.get("required")]
+        table["_allowed_in"] = _allowed_in(table)
+        _schema = table
     return _schema
 
 
@@ -136,6 +140,7 @@ def _version_tuple(text: str | None) -> tuple[int, int] | None:
 
 def _close_match(name: str, candidates: list[str]) -> str | None:
     """The allowed name ``name`` is most probably a typo of (case, one swapped or wrong letter)."""
+    import difflib  # only when something is unknown: keeps start-up lean
     for candidate in candidates:
         if candidate.lower() == name.lower():
             return candidate
@@ -167,19 +172,23 @@ class _Walk:
         self.findings: dict[str, list[Finding]] = {}
         self.xacro_tags = set(self.table["xacro_tags"]["names"])
         self.version: tuple[int, int] | None = (1, 0)
+        self._lines: dict[str, list[str]] = {}
 
-    def add(self, rule_id: str, message: str, loc: Loc | None, hint: str | None = None,
+    def add(self, rule_id: str, message: str, loc, hint: str | None = None,
             severity: str | None = None) -> None:
+        """Record a finding; ``loc`` is a Loc or a function giving one (computed only here)."""
+        if callable(loc):
+            loc = loc()
         self.findings.setdefault(rule_id, []).append(Finding(message, loc, hint, severity))
 
     def attr_loc(self, element, name: str) -> Loc:
         """The element's place, moved to the attribute when it is on the element's first line."""
         loc = self.robot.loc(element)
-        text = self.robot.source.texts.get(loc.path)
-        if text is None or not loc.line:
-            return loc
-        lines = text.splitlines()
-        if loc.line > len(lines):
+        lines = self._lines.get(loc.path)
+        if lines is None:
+            text = self.robot.source.texts.get(loc.path)
+            lines = self._lines[loc.path] = text.splitlines() if text is not None else []
+        if not loc.line or loc.line > len(lines):
             return loc
         line = lines[loc.line - 1]
         start = (loc.column or 1) - 1
@@ -224,7 +233,9 @@ class _Walk:
                 if not definition.get("open_attributes"):
                     self.unknown_attribute(element, tag, name, allowed)
                 continue
-            self.check_since(spec, f"attribute {name!r} of <{tag}>", self.attr_loc(element, name))
+            if "since" in spec:
+                self.check_since(spec, f"attribute {name!r} of <{tag}>",
+                                 lambda name=name: self.attr_loc(element, name))
             self.check_value(element, tag, name, value, spec)
         for name, spec in allowed.items():
             if spec.get("required") and name not in element.attrib and not spec.get("reported_by"):
@@ -234,7 +245,7 @@ class _Walk:
             if len(given) > 1:
                 self.add("schema.bad-value",
                          f"<{tag}> gives both {' and '.join(given)}: urdfdom rejects it "
-                         "(use one or the other)", self.attr_loc(element, given[-1]),
+                         "(use one or the other)", lambda g=given: self.attr_loc(element, g[-1]),
                          hint=f"remove {given[-1]}= or {given[0]}=")
         parent = element.getparent()
         for condition in definition.get("required_when", ()):
@@ -278,7 +289,10 @@ class _Walk:
     def check_value(self, element, tag: str, name: str, value: str, spec: dict) -> None:
         kind = spec.get("type", "string")
         where = f"{name}={value!r} on <{tag}>"
-        loc = self.attr_loc(element, name)
+
+        def loc() -> Loc:
+            return self.attr_loc(element, name)
+
         if kind == "float":
             problem = number_problem(value)
             if problem:
@@ -321,7 +335,7 @@ class _Walk:
                          f"{', '.join(self.table['versions'])} ('x.y') and rejects the robot",
                          loc, hint='write version="1.0" (or leave it out)')
 
-    def check_since(self, spec: dict, what: str, loc: Loc) -> None:
+    def check_since(self, spec: dict, what: str, loc) -> None:
         since = spec.get("since")
         if not since or self.version is None:
             return
@@ -343,17 +357,18 @@ class _Walk:
                      self.robot.loc(element), hint=f"write <{tag}>1.0</{tag}>")
 
     def check_children(self, element, tag: str, definition: dict) -> None:
-        children = definition.get("children", {})
+        children = definition["children"]
+        shape = definition.get("shape")
         counts: Counter[str] = Counter()
         first_shape = None
         for child in element:
             child_tag = _tag(child)
             if child_tag is None:
-                if definition.get("shape") and first_shape is None and isinstance(child.tag, str):
+                if shape and first_shape is None and isinstance(child.tag, str):
                     first_shape = child  # urdfdom takes the first element, whatever it is
                 continue
             spec = children.get(child_tag)
-            if definition.get("shape"):
+            if shape:
                 if first_shape is None:
                     first_shape = child
                     if spec is None:
@@ -372,7 +387,6 @@ class _Walk:
                     continue
                 self.unknown_child(element, tag, child, child_tag, definition, counts)
                 continue
-            spec = _child_spec(spec)
             counts[child_tag] += 1
             if spec.get("max") and counts[child_tag] > spec["max"]:
                 self.add("schema.duplicate-element",
@@ -380,7 +394,8 @@ class _Walk:
                          "ignore this one", self.robot.loc(child),
                          hint=f"merge the two <{child_tag}> elements or remove one")
                 continue
-            self.check_since(spec, f"<{child_tag}>", self.robot.loc(child))
+            if "since" in spec:
+                self.check_since(spec, f"<{child_tag}>", lambda child=child: self.robot.loc(child))
             if spec.get("portable") is False:
                 self.add("schema.vendor-extension",
                          f"<{child_tag}> in <{tag}> is a {spec.get('extension', 'vendor')} "
@@ -388,16 +403,15 @@ class _Walk:
                          "reject it", self.robot.loc(child),
                          hint="keep this file for that simulator, or use a standard shape")
             self.visit(child, spec["ref"])
-        if definition.get("shape") and first_shape is None:
+        if shape and first_shape is None:
             shapes = ", ".join(f"<{n}>" for n, s in children.items()
                                if not _child_spec(s).get("extension"))
             self.add("schema.missing-element",
                      f"<{tag}> has no shape: urdfdom rejects the "
                      f"{element.getparent().tag if element.getparent() is not None else tag}",
                      self.robot.loc(element), hint=f"add one of {shapes}")
-        for name, spec in children.items():
-            spec = _child_spec(spec)
-            if spec.get("required") and counts[name] == 0:
+        for name in definition["_required"]:
+            if counts[name] == 0:
                 self.add("schema.missing-element", f"<{tag}> has no <{name}> (required)",
                          self.robot.loc(element), hint=f"add a <{name}> element")
         one_of = definition.get("requires_one_of")

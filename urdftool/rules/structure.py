@@ -10,7 +10,6 @@ document order, duplicates kept); the joint's ``<parent>``/``<child>`` elements 
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterator
 
 from urdftool.report import Finding
@@ -151,6 +150,8 @@ def missing_link(robot) -> Iterator[Finding]:
         for end, name in (("parent", joint.parent), ("child", joint.child)):
             if name is None or name in known:
                 continue
+            import difflib  # only on this error path: keeps start-up lean
+
             match = difflib.get_close_matches(name, names, n=1, cutoff=0.6)
             message = f"joint '{joint.name}': {end} link '{name}' is not defined"
             if match:
