@@ -17,6 +17,7 @@ from __future__ import annotations
 import contextlib
 import math
 import os
+import re
 import time
 from itertools import combinations
 
@@ -28,6 +29,7 @@ UNLIMITED_FORCE = 1e6  # a joint without an effort limit: the motor is as strong
 DROP_GAP = 0.005  # m between the lowest point and the ground when a free model is released
 ANCHOR_GAP = 0.001  # m: an anchored model reaching below the ground is lifted this far above it
 GRAVITY = 9.81
+ROBOT_GROUP = 64  # collision filter group of the robot's links (Bullet uses 1..32 itself)
 
 
 def _check(name: str, status: str, message: str, **values) -> CheckResult:
@@ -110,6 +112,13 @@ class _Run:
                  picture: str | None = None):
         self.prepared, self.options, self.result = prepared, options, result
         self.picture = picture
+        # PyBullet answers closest-point queries between two links of one body only when the
+        # body was loaded with self-collision (and then only for non-adjacent links). The
+        # model is loaded that way and self-collision is switched off again with collision
+        # groups before stepping; a model with collision groups of its own in the URDF is
+        # instead asked through a second copy of it (twice the load time)
+        self.twin_query = bool(re.search(r"<collision\b[^>]*\b(group|mask)\s*=",
+                                         prepared.urdf_text))
         self.limits = options.thresholds
         self.load_error: str | None = None
         self.client = None
@@ -134,10 +143,13 @@ class _Run:
         self.plane = p.loadURDF(os.path.join(pybullet_data.getDataPath(), "plane.urdf"))
         started = time.perf_counter()
         try:
+            flags = pybullet.URDF_USE_INERTIA_FROM_FILE | (
+                0 if self.picture else pybullet.URDF_IGNORE_VISUAL_SHAPES)
+            if not self.twin_query:  # so that PyBullet answers pair queries within the body
+                flags |= (pybullet.URDF_USE_SELF_COLLISION |
+                          pybullet.URDF_USE_SELF_COLLISION_INCLUDE_PARENT)
             body = p.loadURDF(prepared.urdf_file, [0, 0, 0], [0, 0, 0, 1],
-                              useFixedBase=prepared.anchored,
-                              flags=pybullet.URDF_USE_INERTIA_FROM_FILE | (
-                                  0 if self.picture else pybullet.URDF_IGNORE_VISUAL_SHAPES))
+                              useFixedBase=prepared.anchored, flags=flags)
         except pybullet.error as exc:
             self.load_error = str(exc).strip() or "cannot load the URDF"
             result.timing["load"] = time.perf_counter() - started
@@ -242,18 +254,16 @@ class _Run:
                                      ", ".join(unknown))
         boxes = {i: p.getAABB(self.body, i) for i in self.collision_links}
         failing, ancestral = [], []
-        # PyBullet answers closest-point queries between links of one body only for the pairs
-        # its self-collision filter lets through (not siblings, for one): ask a second copy
         import pybullet
 
-        position, orientation = p.getBasePositionAndOrientation(self.body)
-        twin = p.loadURDF(self.prepared.urdf_file, position, orientation, useFixedBase=True,
-                          flags=pybullet.URDF_USE_INERTIA_FROM_FILE |
-                          pybullet.URDF_IGNORE_VISUAL_SHAPES)
-        p.resetBasePositionAndOrientation(twin, position, orientation)
-        for index, fact in self.controlled:
-            p.resetJointState(twin, index, fact.home)
-        p.performCollisionDetection()
+        other = self.body
+        if self.twin_query:  # loaded exactly as the model was (nothing has moved it yet)
+            other = p.loadURDF(self.prepared.urdf_file, [0, 0, 0], [0, 0, 0, 1],
+                               useFixedBase=self.prepared.anchored,
+                               flags=pybullet.URDF_USE_INERTIA_FROM_FILE |
+                               pybullet.URDF_IGNORE_VISUAL_SHAPES)
+            for index, fact in self.controlled:
+                p.resetJointState(other, index, fact.home)
         for a, b in combinations(self.collision_links, 2):
             name_a, name_b = self.link_names[a], self.link_names[b]
             relation = prepared.relation(name_a, name_b)
@@ -262,7 +272,7 @@ class _Run:
             (lo_a, hi_a), (lo_b, hi_b) = boxes[a], boxes[b]
             if any(lo_a[k] > hi_b[k] or lo_b[k] > hi_a[k] for k in range(3)):
                 continue
-            points = p.getClosestPoints(self.body, twin, 0.0, a, b)
+            points = p.getClosestPoints(self.body, other, 0.0, a, b)
             if not points:
                 continue
             depth = -min(point[8] for point in points)
@@ -270,7 +280,12 @@ class _Run:
                 (ancestral if relation == "ancestor" and not strict else failing).append(
                     (name_a, name_b, depth))
 
-        p.removeBody(twin)
+        if self.twin_query:
+            p.removeBody(other)
+        else:  # self-collision off again: the robot's links in a group of their own that
+            # their mask leaves out (the ground, static group 2, still collides with them)
+            for index in self.link_names:
+                p.setCollisionFilterGroupMask(self.body, index, ROBOT_GROUP, ~ROBOT_GROUP)
 
         def listing(pairs):
             pairs.sort(key=lambda pair: -pair[2])

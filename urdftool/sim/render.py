@@ -118,8 +118,11 @@ def render_model(run, target: str) -> list[str]:
     collision_file.write_text(text, encoding="utf-8")
     p.removeBody(body)
     run.body = None
-    shown = p.loadURDF(str(collision_file), position, orientation, useFixedBase=True,
-                       flags=pybullet.URDF_IGNORE_COLLISION_SHAPES)
+    # loaded like the model (a fixed and a free base place their frames differently); nothing
+    # steps the simulation any more, so a free one stays where it is put
+    shown = p.loadURDF(str(collision_file), position, orientation, useFixedBase=prepared.anchored,
+                       flags=pybullet.URDF_IGNORE_COLLISION_SHAPES |
+                       pybullet.URDF_USE_INERTIA_FROM_FILE)
     p.resetBasePositionAndOrientation(shown, position, orientation)
     for index in range(p.getNumJoints(shown)):
         name = p.getJointInfo(shown, index)[1].decode("utf-8", "replace")
