@@ -256,7 +256,6 @@ def test_missing_required_attributes_and_elements(write):
     assert any(line == 5 and "<geometry>" in m for line, m in elements)
     assert any(line == 6 and "<inertia>" in m for line, m in elements)
     assert any(line == 8 and "<child>" in m for line, m in elements)
-    assert any(line == 11 and "neither <color> nor <texture>" in m for line, m in elements)
 
 
 def test_geometry_without_shape(write):
@@ -386,3 +385,17 @@ def test_urdf_1_2_needs_both_position_limits(write, version, joint_type, fires):
                        attrs=f'name="r" version="{version}"'))
     found = fired(path, "schema.missing-attribute")
     assert [(d.line, "'lower'" in d.message) for d in found] == ([(6, True)] if fires else [])
+
+
+def test_old_unprefixed_xacro_is_left_to_the_xacro_family(write):
+    write('<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+          '  <xacro:macro name="body"><link name="base"/></xacro:macro>\n</robot>\n',
+          "body.urdf.xacro")
+    path = write('<?xml version="1.0"?>\n'
+                 '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+                 '  <xacro:include filename="body.urdf.xacro"/>\n'
+                 '  <body/>\n  <link name="tool"/>\n</robot>\n', "robot.urdf.xacro")
+    report = check_file(path, CheckOptions(select=["schema", "xacro"]))
+    assert any(d.rule == "xacro.unprefixed-macro-call" and d.line == 4
+               for d in report.diagnostics)
+    assert not [d for d in report.diagnostics if d.rule.startswith("schema.")]

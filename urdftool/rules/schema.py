@@ -173,6 +173,15 @@ class _Walk:
         self.xacro_tags = set(self.table["xacro_tags"]["names"])
         self.version: tuple[int, int] | None = (1, 0)
         self._lines: dict[str, list[str]] = {}
+        self._old_xacro: set | None = None
+
+    def old_xacro(self, element) -> bool:
+        """Whether the xacro family reports this element as unexpanded old-style xacro."""
+        if self._old_xacro is None:
+            from urdftool.rules.xacro import unexpanded_xacro
+
+            self._old_xacro = set(unexpanded_xacro(self.robot))
+        return element in self._old_xacro
 
     def add(self, rule_id: str, message: str, loc, hint: str | None = None,
             severity: str | None = None) -> None:
@@ -383,7 +392,8 @@ class _Walk:
                              if element.getparent() is not None else None)
                     continue
             if spec is None:
-                if child_tag in self.xacro_tags or definition.get("open_children"):
+                if child_tag in self.xacro_tags or definition.get("open_children") \
+                        or self.old_xacro(child):
                     continue
                 self.unknown_child(element, tag, child, child_tag, definition, counts)
                 continue
@@ -414,14 +424,6 @@ class _Walk:
             if counts[name] == 0:
                 self.add("schema.missing-element", f"<{tag}> has no <{name}> (required)",
                          self.robot.loc(element), hint=f"add a <{name}> element")
-        one_of = definition.get("requires_one_of")
-        if one_of and not any(counts[n] for n in one_of):
-            name = element.get("name")
-            label = f"<{tag} name={name!r}>" if name else f"<{tag}>"
-            self.add("schema.missing-element",
-                     f"{label} defines neither " + " nor ".join(f"<{n}>" for n in one_of)
-                     + ": urdfdom rejects the definition", self.robot.loc(element),
-                     hint='add <color rgba="r g b a"/> (or a <texture filename="..."/>)')
 
     def unknown_shape(self, child, child_tag: str, children: dict) -> None:
         shapes = [n for n, s in children.items() if not _child_spec(s).get("extension")]
@@ -608,8 +610,8 @@ def missing_attribute(robot):
       doc="""
 Some elements need children: a `<joint>` its `<parent>` and `<child>`, an `<inertial>` its
 `<mass>` and `<inertia>`, a `<visual>` or `<collision>` its `<geometry>`, a `<geometry>` one
-shape, a top-level `<material>` a `<color>` or `<texture>`, a `<ros2_control>` its
-`<hardware>`. Without them urdfdom drops the element or rejects the robot.
+shape, a `<ros2_control>` its `<hardware>`. Without them urdfdom drops the element or rejects
+the robot. (A top-level `<material>` without colour is `material.no-color`.)
 """,
       bad=_ROBOT.format('<link name="arm">\n    <collision>\n      <origin xyz="0 0 0.5"/>\n'
                         '    </collision>\n  </link>\n  <joint name="j" type="fixed">'
