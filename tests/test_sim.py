@@ -282,3 +282,24 @@ def test_home_pose_is_zero_clamped_into_the_limits(tmp_path):
         assert math.isclose(prepared.joints["shoulder"].lower, 0.2)
     finally:
         prepared.cleanup()
+
+
+def test_sdf_input_is_converted_and_simulated():
+    # the SDF converter's URDF: a chassis on two included wheels (model://wheel, found with
+    # --model-path) rests on its wheels; without the model path the wheels are missing and the
+    # chassis, which has no collision geometry, falls through the ground
+    from tests.conftest import ROOT
+
+    sdf = ROOT / "tests" / "data" / "sdf" / "with_include.sdf"
+    if not sdf.exists():
+        pytest.skip("no SDF test data")
+    found = run_urdftool("sim", sdf, "--model-path", sdf.parent / "models", "--format", "json")
+    assert found.code == 0, found.out
+    (model,) = json.loads(found.out)["models"]
+    assert model["robot"] == "cart" and model["anchored"] is False
+    missing = run_urdftool("sim", sdf, "--format", "json")
+    assert missing.code == 1
+    (model,) = json.loads(missing.out)["models"]
+    assert any("cannot resolve include 'model://wheel'" in note for note in model["notes"])
+    sink = next(c for c in model["checks"] if c["check"] == "sim.sink")
+    assert sink["status"] == "fail"

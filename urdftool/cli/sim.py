@@ -65,10 +65,15 @@ def _pairs(values: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
               help="Picture size in pixels.")
 @click.option("-j", "--jobs", type=click.IntRange(min=1, max=256), default=1, show_default=True,
               help="Models simulated in parallel processes.")
+@click.option("--model", "sdf_model", metavar="NAME",
+              help="SDF input: the model of a world to simulate (default: the first).")
+@click.option("--model-path", "model_paths", multiple=True, metavar="DIR",
+              help="SDF input: where model:// includes and meshes are found. Repeatable.")
 @format_option("text", "json")
 @package_option
 def command(inputs, duration, rate, fixed_base, allow_collision, srdf, no_srdf,
-            strict_collision, repaired, render, size, jobs, fmt, packages):
+            strict_collision, repaired, render, size, jobs, sdf_model, model_paths, fmt,
+            packages):
     """Drop each model into PyBullet (headless) and judge what happens.
 
     \b
@@ -95,7 +100,8 @@ def command(inputs, duration, rate, fixed_base, allow_collision, srdf, no_srdf,
                          srdf=False if no_srdf else srdf, strict_collision=strict_collision,
                          repaired=repaired, render=render,
                          size=_size(size), jobs=jobs, packages=parse_packages(packages),
-                         xacro_args=xacro_args)
+                         xacro_args=xacro_args, sdf_model=sdf_model,
+                         sdf_model_paths=tuple(model_paths))
     started = time.perf_counter()
     results = simulate(paths, options)
     wall = time.perf_counter() - started

@@ -54,6 +54,8 @@ class SimOptions:
     repaired: bool = False  # simulate the XML as urdftool repairs it (past the XML errors)
     packages: dict[str, str] = field(default_factory=dict)
     xacro_args: dict[str, str] = field(default_factory=dict)
+    sdf_model: str | None = None  # SDF input: the model of a world (default: the first)
+    sdf_model_paths: tuple[str, ...] = ()  # SDF input: where model:// is found
     thresholds: Thresholds = field(default_factory=Thresholds)
 
 

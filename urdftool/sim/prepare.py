@@ -339,7 +339,9 @@ def prepare(path: str, options, from_directory: bool = False) -> Prepared:
     cannot be read at all (exit 2); everything else is a ``problem`` (the load check fails)."""
     prepared = Prepared(str(path))
     try:
-        source = load(path, LoadOptions(dict(options.packages), dict(options.xacro_args)))
+        source = load(path, LoadOptions(dict(options.packages), dict(options.xacro_args),
+                                        sdf_model=options.sdf_model,
+                                        sdf_model_paths=list(options.sdf_model_paths)))
     except ModuleNotFoundError as exc:  # SDF before the converter exists
         raise ToolError(f"{path}: cannot convert this input for PyBullet ({exc})") from None
     prepared.kind = source.kind
@@ -355,11 +357,18 @@ def prepare(path: str, options, from_directory: bool = False) -> Prepared:
         # wrong with the XML only if PyBullet refuses it
         prepared.xml_problem = _first_problem(source, ("xml.",))
     else:
-        problem = _first_problem(source, ("xacro.", "sdf.") if repaired else
-                                 ("xacro.", "xml.", "sdf."))
+        problem = _first_problem(source, ("xacro.",) if repaired else ("xacro.", "xml."))
         if problem or root is None:
-            prepared.problem = problem or "nothing to convert"
+            prepared.problem = problem or _first_problem(source, ("sdf.",)) or \
+                "nothing to convert"
             return prepared
+        # what the SDF converter says (a dropped gearbox, a cut loop, the first of several
+        # models...) comes with the simulation of what it converted
+        sdf = [f"{_where(f.loc)}{f.message}" for rule, f in source.problems
+               if rule.startswith("sdf.")]
+        prepared.notes.extend(f"SDF: {text}" for text in sdf[:3])
+        if len(sdf) > 3:
+            prepared.notes.append(f"SDF: {len(sdf) - 3} more ('urdftool check' lists them)")
     if root is None or root.tag != "robot":
         prepared.problem = ("no <robot> element" if root is not None else "no XML element found")
         if prepared.xml_problem:
