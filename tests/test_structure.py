@@ -129,3 +129,19 @@ def test_orphan_link(write):
     [d] = fired(path, "structure.orphan-link")
     assert d.line == 5 and "'camera'" in d.message
     assert fired(path, "structure.multiple-roots") == []
+
+
+def test_a_duplicated_link_is_one_root(write):
+    path = write(robot('  <link name="base"/>', '  <link name="base"/>', '  <link name="arm"/>',
+                       joint("j", "base", "arm")))
+    assert [d.rule for d in structure(path)] == ["structure.duplicate-link"]
+
+
+def test_sdf_inputs_are_left_to_the_sdf_family(write):
+    path = write('<?xml version="1.0"?>\n<sdf version="1.7">\n  <model name="m">\n'
+                 '    <link name="a"/>\n    <link name="a"/>\n    <link name="b"/>\n'
+                 '    <joint name="j" type="fixed"><parent>a</parent><child>b</child></joint>\n'
+                 '  </model>\n</sdf>\n', "model.sdf")
+    report = check_file(path, CheckOptions(select=["structure", "sdf"]))
+    assert "sdf.duplicate-name" in {d.rule for d in report.diagnostics}
+    assert not [d for d in report.diagnostics if d.rule.startswith("structure.")]

@@ -139,12 +139,13 @@ def nonpositive_size(robot) -> Iterator[Finding]:
             bad = [(n, v) for n, v in values if v <= 0]
             if bad:
                 if geometry.kind == "box":
-                    what = f"box size {' '.join(f'{v:g}' for _, v in values)}"
+                    what = (f"box size {' '.join(f'{v:g}' for _, v in values)} has a side that"
+                            " is")
                 else:
-                    what = ", ".join(f"{geometry.kind} {n} {v:g}" for n, v in bad)
+                    what = ", ".join(f"{geometry.kind} {n} {v:g}" for n, v in bad) + " is"
                 # A zero-size visual only draws nothing; anything else is wrong physics.
                 harmless = shape.role == "visual" and all(v == 0 for _, v in bad)
-                yield Finding(f"{where}: {what} is not positive"
+                yield Finding(f"{where}: {what} not positive"
                               + (" (it draws nothing: remove the visual instead)"
                                  if harmless else ""), loc,
                               hint="every size must be positive", severity="warning"

@@ -3,17 +3,31 @@
 A URDF robot is a tree of links joined by joints: names unique, every joint's parent and child
 defined, one root link (the only link that is no joint's child), every link reachable from it,
 no link with two parents, no loops. urdfdom rejects the whole robot when any of this fails, so
-these are errors. Everything here reads the model (``robot.links``, ``robot.joints``, in
-document order, duplicates kept); the joint's ``<parent>``/``<child>`` elements are looked up in
-``robot.root`` only to point at the exact line.
+these are errors. Everything here reads the model (``robot.links``, ``robot.joints``, in document
+order, duplicates kept); the joint's ``<parent>``/``<child>`` elements are looked up in
+``robot.root`` only to point at the exact line. SDF inputs are the sdf family's business.
 """
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterator
 
 from urdftool.report import Finding
 from urdftool.rules import rule
+
+
+def _urdf_only(check):
+    """SDF inputs are checked on the SDF itself by the sdf family (duplicate names, loops,
+    disconnected links); the URDF converted from them is made a tree on purpose."""
+
+    @functools.wraps(check)
+    def run(robot):
+        if robot.source.kind == "sdf":
+            return iter(())
+        return check(robot)
+
+    return run
 
 
 def _joint_elements(robot) -> list[tuple[object, object]]:
@@ -55,6 +69,7 @@ but names nothing; it is a warning.
 """,
       bad='<robot>\n  <link name="base"/>\n</robot>',
       good='<robot name="r">\n  <link name="base"/>\n</robot>')
+@_urdf_only
 def no_name(robot) -> Iterator[Finding]:
     root = robot.root
     if root is None or root.tag != "robot":
@@ -77,6 +92,7 @@ Usually the links sit in a macro that is never called, or in a file that is not 
           '</robot>',
       good='<robot name="r">\n  <material name="grey"><color rgba="0.5 0.5 0.5 1"/></material>\n'
            '  <link name="base"/>\n</robot>')
+@_urdf_only
 def no_links(robot) -> Iterator[Finding]:
     root = robot.root
     if root is None or root.tag != "robot" or robot.links:
@@ -107,6 +123,7 @@ usually comes from calling a macro twice with the same prefix.
 """,
       bad=_ROBOT.format('  <link name="base"/>\n  <link name="base"/>'),
       good=_ROBOT.format('  <link name="base"/>'))
+@_urdf_only
 def duplicate_link(robot) -> Iterator[Finding]:
     return _duplicates(robot.links, "link")
 
@@ -126,6 +143,7 @@ rejects a robot with two joints of one name ("joint 'x' is not unique").
                          '<child link="a"/></joint>\n'
                          '  <joint name="jb" type="fixed"><parent link="base"/>'
                          '<child link="b"/></joint>'))
+@_urdf_only
 def duplicate_joint(robot) -> Iterator[Finding]:
     return _duplicates(robot.joints, "joint")
 
@@ -143,6 +161,7 @@ The message suggests the closest defined link name.
       good=_ROBOT.format('  <link name="base_link"/>\n  <link name="arm"/>\n'
                          '  <joint name="j" type="fixed">\n    <parent link="base_link"/>\n'
                          '    <child link="arm"/>\n  </joint>'))
+@_urdf_only
 def missing_link(robot) -> Iterator[Finding]:
     names = _link_names(robot)
     known = set(names)
@@ -170,6 +189,7 @@ link is its own parent: there is no root any more and urdfdom rejects the robot.
                         '  <joint name="j" type="fixed">\n    <parent link="arm"/>\n'
                         '    <child link="arm"/>\n  </joint>'),
       good=_ROBOT.format(_TWO_LINKS))
+@_urdf_only
 def self_joint(robot) -> Iterator[Finding]:
     for joint, element in _joint_elements(robot):
         if joint.parent is not None and joint.parent == joint.child:
@@ -197,6 +217,7 @@ joint its own child link.
                          '<child link="a"/></joint>\n'
                          '  <joint name="j3" type="fixed"><parent link="a"/>'
                          '<child link="b"/></joint>'))
+@_urdf_only
 def two_parents(robot) -> Iterator[Finding]:
     first: dict[str, object] = {}
     for joint, element in _joint_elements(robot):
@@ -304,6 +325,7 @@ versions never return). The message names the links and joints of the loop.
                          '<child link="a"/></joint>\n'
                          '  <joint name="j2" type="fixed"><parent link="a"/>'
                          '<child link="b"/></joint>'))
+@_urdf_only
 def loop(robot) -> Iterator[Finding]:
     order = {id(j): i for i, j in enumerate(robot.joints)}
     for cycle in _cycles(robot):
@@ -315,7 +337,7 @@ def loop(robot) -> Iterator[Finding]:
 
 def _trees(robot) -> tuple[list[str], list[str], dict[str, int]]:
     """(roots that have child joints, links in no joint at all, size of each root's tree)."""
-    roots = robot.roots()
+    roots = list(dict.fromkeys(robot.roots()))  # a duplicated link is one root
     in_joint = {j.parent for j in robot.joints} | {j.child for j in robot.joints}
     connected = [r for r in roots if r in in_joint]
     isolated = [r for r in roots if r not in in_joint]
@@ -359,6 +381,7 @@ joint at all are reported by `structure.orphan-link`.
                          '<child link="cart"/></joint>\n'
                          '  <joint name="j2" type="continuous"><parent link="cart"/>'
                          '<child link="wheel"/></joint>'))
+@_urdf_only
 def multiple_roots(robot) -> Iterator[Finding]:
     connected, isolated, sizes = _trees(robot)
     if not connected:
@@ -390,6 +413,7 @@ delete it.
       good=_ROBOT.format(_TWO_LINKS + '\n  <link name="camera"/>\n'
                          '  <joint name="camera_joint" type="fixed"><parent link="arm"/>'
                          '<child link="camera"/></joint>'))
+@_urdf_only
 def orphan_link(robot) -> Iterator[Finding]:
     connected, isolated, _ = _trees(robot)
     if not robot.joints:
