@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import time
 
 import click
@@ -106,11 +107,22 @@ def command(inputs, duration, rate, fixed_base, allow_collision, srdf, no_srdf,
     results = simulate(paths, options)
     wall = time.perf_counter() - started
     if fmt == "json":
-        click.echo(json.dumps(report_json(results, options, wall), indent=2))
+        click.echo(json.dumps(_finite(report_json(results, options, wall)), indent=2))
     else:
         print_text(results, wall)
     failed = any(r.verdict == "fail" for r in results)
     raise click.exceptions.Exit(1 if failed else 0)
+
+
+def _finite(value):
+    """NaN and infinities (a model whose state blew up) as null: JSON has no such numbers."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    return value
 
 
 def report_json(results, options, wall: float) -> dict:
@@ -148,9 +160,10 @@ def print_text(results, wall: float) -> None:
     table.add_column("verdict")
     table.add_column("failed checks", overflow="fold")
     table.add_column("time", justify="right")
+    table.add_column("real-time", justify="right")
     for result in results:
         name = escape(result.path)
-        if result.robot:
+        if result.robot and result.robot != result.path.rsplit("/", 1)[-1].split(".")[0]:
             name += f" [dim]({escape(result.robot)})[/]"
         verdict = {"pass": "[green]pass[/]", "fail": "[bold red]FAIL[/]",
                    "skip": "[dim]skip[/]"}[result.verdict]
@@ -160,7 +173,8 @@ def print_text(results, wall: float) -> None:
         taken = f"{timing.get('total', 0):.2f} s"
         if "load" in timing:
             taken += f" [dim](load {timing['load']:.2f})[/]"
-        table.add_row(name, verdict, failed, taken)
+        factor = f"{result.real_time_factor:.0f}x" if result.real_time_factor else ""
+        table.add_row(name, verdict, failed, taken, factor)
     console.print(table)
     for result in results:
         if result.verdict != "fail" and not result.images:
