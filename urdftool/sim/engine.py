@@ -77,6 +77,15 @@ def run_model(path: str, options: SimOptions, from_directory: bool = False,
             run = _Run(prepared, options, result, picture)
             try:
                 run.execute()
+            except Exception as exc:
+                if type(exc).__module__ != "pybullet":
+                    raise
+                # PyBullet refused something after loading the model (a query on a body it
+                # built wrong): the model cannot be simulated; say so and go on with the rest
+                result.checks = [c for c in result.checks if c.check != "sim.load"]
+                result.checks.insert(0, _check("load", "fail", "PyBullet failed on this model "
+                                               f"after loading it: {exc}"))
+                _skip_rest(result, "PyBullet failed")
             finally:
                 run.close()
         messages = list(dict.fromkeys(describe_location(prepared, m)
