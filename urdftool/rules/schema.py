@@ -590,9 +590,10 @@ def sdf_element(robot):
 URDF requires some attributes, and parsers reject the element without them: a link's or
 joint's `name`, a joint's `type`, `link` on `<parent>`/`<child>`, `filename` on `<mesh>`,
 `size` on `<box>`, `radius` and `length` on `<cylinder>`, all six moments of `<inertia>`,
-`effort` and `velocity` on `<limit>`, `joint` on `<mimic>`, `k_velocity` on
-`<safety_controller>`, `name` on `<material>`. urdfdom drops the element (a visual, an
-inertial) or rejects the whole robot (a joint).
+`effort` and `velocity` on `<limit>` (and `lower`/`upper` of revolute and prismatic joints in
+URDF 1.2), `name` on `<material>`. urdfdom drops the element (a visual, an inertial) or rejects
+the whole robot (a joint). A `<mimic>` without `joint` and a `<safety_controller>` without
+`k_velocity` are reported by `mimic.unknown-joint` and `joint.safety-gains`.
 """,
       bad=_ROBOT.format('<link name="arm">\n    <inertial>\n      <mass value="1"/>\n'
                         '      <inertia ixx="0.1" iyy="0.1" izz="0.1"/>\n    </inertial>\n'
