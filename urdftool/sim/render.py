@@ -30,7 +30,13 @@ def write_png(path: str | Path, rgb, width: int, height: int) -> None:
     header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
     data = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) +
             chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
-    Path(path).write_bytes(data)
+    try:
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        Path(path).write_bytes(data)
+    except OSError as exc:
+        from urdftool.errors import ToolError
+
+        raise ToolError(f"{path}: cannot write the picture: {exc.strerror or exc}") from None
 
 
 def collision_as_visual(urdf_text: str, mesh_paths: dict[str, str]) -> str:
@@ -105,7 +111,6 @@ def render_model(run, target: str) -> list[str]:
     low, high = _bounds(p, body, links)
     view, projection = _camera(p, low, high, width, height)
     target_path = Path(target)
-    target_path.parent.mkdir(parents=True, exist_ok=True)
     written = []
     write_png(target_path, _snapshot(p, view, projection, width, height), width, height)
     written.append(str(target_path))
