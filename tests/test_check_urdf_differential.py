@@ -222,12 +222,7 @@ def _as_urdf(path: Path, tmp_path: Path) -> Path | None:
 
 # Differences urdftool does not close yet, each with the reason (strict: the test says when
 # one is closed).
-KNOWN_GAPS = {
-    "pybullet_data/husky/husky.urdf":
-        "a .urdf that declares xmlns:xacro is expanded by xacro before checking (source.py's kind "
-        "detection), so its leftover $(optenv HUSKY_IMU_XYZ 0.19 0 0.149) origin is evaluated "
-        "instead of reported; check_urdf reads the file as it is and rejects it",
-}
+KNOWN_GAPS: dict[str, str] = {}
 
 
 def _params():

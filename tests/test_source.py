@@ -44,7 +44,9 @@ def test_detect_kind():
     assert detect_kind(Path("a.urdf"), "<robot name='x'/>") == "urdf"
     uses = '<robot xmlns:xacro="http://ros.org/wiki/xacro"><xacro:property name="a" value="1"/>'
     assert detect_kind(Path("a.urdf"), uses + "</robot>") == "xacro"
-    assert detect_kind(Path("a.urdf"), '<robot><link name="${n}"/></robot>') == "xacro"
+    assert detect_kind(Path("a.xml"), '<robot><link name="${n}"/></robot>') == "xacro"
+    # a .urdf is read as URDF consumers read it: leftover substitutions are reported, not run
+    assert detect_kind(Path("a.urdf"), '<robot><link name="${n}"/></robot>') == "urdf"
     # generated URDFs often keep an unused xmlns:xacro: no need to run xacro on them
     assert detect_kind(Path("a.urdf"), '<robot xmlns:xacro="http://ros.org/wiki/xacro"/>') == "urdf"
     assert detect_kind(Path("a.xml"), '<?xml version="1.0"?><sdf version="1.7"/>') == "sdf"
@@ -103,4 +105,5 @@ def test_package_resolver_sources(tmp_path):
     assert ament.resolve_uri("package://arm/meshes/a.stl", tmp_path) == \
         prefix / "share" / "arm" / "meshes" / "a.stl"
     assert ament.resolve_uri("package://missing/a.stl", tmp_path) is None
+    assert ament.resolve_uri("package:///arm/a.stl", tmp_path) == prefix / "share" / "arm" / "a.stl"
     assert ament.resolve_uri("meshes/a.stl", tmp_path) == tmp_path / "meshes" / "a.stl"

@@ -86,7 +86,8 @@ class PackageResolver:
     def resolve_uri(self, uri: str, base_dir: Path) -> Path | None:
         """Resolve a mesh or resource URI to a local path; None when it cannot be resolved."""
         if uri.startswith("package://"):
-            name, _, rest = uri[len("package://"):].partition("/")
+            # package:///NAME/... (three slashes) is seen in the wild and read by ROS tools
+            name, _, rest = uri[len("package://"):].lstrip("/").partition("/")
             package = self.find(name)
             return package / rest if package is not None else None
         if uri.startswith("file://"):

@@ -29,6 +29,7 @@ LOC_ATTR = "urdftool-loc"
 VIA_ATTR = "urdftool-via"
 # xacro is run only when the file uses it: many generated URDFs keep an unused xmlns:xacro.
 _XACRO_USE_RE = re.compile(r"<xacro:|\$\{|\$\((?:find|arg|env|optenv|eval|dirname) ")
+_XACRO_ELEMENT_RE = re.compile(r"<xacro:")
 _COMMENT_RE = re.compile(r"<!--.*?-->", re.S)
 _ENCODING_DECL_RE = re.compile(r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2")
 
@@ -82,15 +83,15 @@ class Source:
 
 
 def detect_kind(path: Path, text: str) -> str:
-    """'sdf', 'xacro' or 'urdf', by content first, then by extension."""
-    head = text[:4096]
-    if re.search(r"<sdf[\s>]", head):
-        return "sdf"
-    if _XACRO_USE_RE.search(text) and _XACRO_USE_RE.search(_COMMENT_RE.sub("", text)):
-        return "xacro"
-    if path.suffix == ".sdf":
+    """'sdf', 'xacro' or 'urdf'. SDF by content; a ``.xacro`` file is xacro; a ``.urdf`` file is
+    read as URDF consumers read it (leftover ``${...}`` or ``$(...)`` are reported, not
+    evaluated) unless it has xacro elements; other names by whether the text uses xacro."""
+    if re.search(r"<sdf[\s>]", text[:4096]) or path.suffix == ".sdf":
         return "sdf"
     if path.suffix == ".xacro":
+        return "xacro"
+    pattern = _XACRO_ELEMENT_RE if path.suffix == ".urdf" else _XACRO_USE_RE
+    if pattern.search(text) and pattern.search(_COMMENT_RE.sub("", text)):
         return "xacro"
     return "urdf"
 
