@@ -7,6 +7,7 @@ from __future__ import annotations
 import pytest
 from lxml import etree
 
+from urdftool import xmlrepair
 from urdftool.check import CheckOptions, check_file
 from urdftool.xmlrepair import repair, secure_parser
 
@@ -289,3 +290,15 @@ def test_truncated_file_is_closed_in_the_right_order():
 def test_other_processing_instructions_are_not_declarations():
     text = '<?xml-stylesheet href="robot.xsl"?>\n<robot name="r"><link name="a"/></robot>\n'
     assert findings(text)[1] == []
+
+
+@pytest.mark.parametrize("text", [ROBOT.format('<link name="a"/>'),
+                                  ROBOT.format('<link name="a">\n  <visual/>\n  /link>'),
+                                  '<robot name="r"><![CDATA[ x </robot>', ""])
+def test_repair_and_parse_returns_the_tree_of_the_repaired_text(text):
+    fixed, problems, root = xmlrepair.repair_and_parse(text, "t.urdf")
+    assert (fixed, problems) == repair(text, "t.urdf")
+    if strict_ok(fixed):
+        assert etree.tostring(root) == etree.tostring(etree.fromstring(fixed.encode()))
+    else:
+        assert root is None

@@ -1033,23 +1033,30 @@ def _may_hold_taglike_text(text: str) -> bool:
 
 def repair(text: str, path: str) -> tuple[str, list[tuple[str, Finding]]]:
     """Repair recognised breakages; report each one, plus whatever the parser still rejects."""
+    fixed, problems, _ = repair_and_parse(text, path)
+    return fixed, problems
+
+
+def repair_and_parse(text: str, path: str):
+    """``repair`` plus the root element of the strictly parsed repaired text (None when the
+    parser still rejects it): callers need not parse a well-formed file a second time."""
     problems: list[tuple[str, Finding]] = []
     try:
         return _repair(text, path, problems)
     except RecursionError:  # pragma: no cover - nothing here recurses; belt and braces
         problems.append(("xml.syntax", Finding("document too deeply nested", Loc(path, 1, 1))))
-        return text, problems
+        return text, problems, None
 
 
-def _repair(text: str, path: str, problems: list) -> tuple[str, list]:
+def _repair(text: str, path: str, problems: list):
     text, declaration_shift = _fix_declaration(text, path, problems)
     root, error = _strict_parse(text)
     if error is None and not _may_hold_taglike_text(text):
-        return text, problems  # fast path: well-formed, nothing looks like a broken tag
+        return text, problems, root  # fast path: well-formed, nothing looks like a broken tag
     if not text.strip():
         problems.append(("xml.no-root", Finding("the file is empty", Loc(path, 1, 1),
                                                 hint="a URDF starts with <robot name=\"...\">")))
-        return text, problems
+        return text, problems, None
     original = text
     found: list[tuple[str, str, int, int, str | None, tuple | None, str | None]] = []
     text = _replace_bad_characters(text, found)
@@ -1110,7 +1117,7 @@ def _repair(text: str, path: str, problems: list) -> tuple[str, list]:
             Loc(path, found[-1][2], found[-1][3]))))
     if error is not None and not any(f[0] == "xml.no-root" for f in found):
         problems.append(("xml.syntax", _syntax_finding(error, path, history, original)))
-    return text, problems
+    return text, problems, root if error is None else None
 
 
 def _syntax_finding(error, path: str, history: list, original: str) -> Finding:
