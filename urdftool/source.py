@@ -22,7 +22,7 @@ from urdftool.errors import ToolError
 from urdftool.model import Loc
 from urdftool.packages import PackageResolver
 from urdftool.report import Finding
-from urdftool.xmlrepair import repair, secure_parser
+from urdftool.xmlrepair import repair_and_parse, secure_parser
 
 ROBOT_SUFFIXES = (".urdf", ".xacro", ".sdf")
 LOC_ATTR = "urdftool-loc"
@@ -129,14 +129,12 @@ def _utf8_bytes(text: str) -> bytes:
 
 def parse_text(text: str, path: str, source: Source) -> etree._Element | None:
     """Repair and parse one file's text; report problems into ``source``. None if hopeless."""
-    fixed, problems = repair(text, path)
+    fixed, problems, root = repair_and_parse(text, path)
     for rule, finding in problems:
         source.add(rule, finding)
+    if root is not None:
+        return root
     data = _utf8_bytes(fixed)
-    try:
-        return etree.fromstring(data, secure_parser())
-    except etree.XMLSyntaxError:
-        pass
     try:
         root = etree.fromstring(data, secure_parser(recover=True))
     except etree.XMLSyntaxError:
@@ -182,8 +180,7 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
     source = Source(str(path), kind, texts={str(path): text},
                     resolver=PackageResolver(options.packages, file_path))
     if not text.strip():
-        source.add("xml.syntax", Finding("the file is empty", Loc(str(path), 1, 1),
-                                         hint="a URDF starts with <robot name=\"...\">"))
+        parse_text(text, str(path), source)  # reports xml.no-root
         return source
     if kind == "urdf":
         root = parse_text(text, str(path), source)
