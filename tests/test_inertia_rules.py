@@ -22,11 +22,23 @@ def findings(path, families=("inertia",), packages=None):
     return check_file(path, options).diagnostics
 
 
+def ratios(path):
+    """declared / geometry moment about each inertial axis, per link (not vacuous: both known)"""
+    from urdftool.model import build_robot
+    from urdftool.physics import links
+    from urdftool.source import load
+
+    links._last = None
+    robot = build_robot(load(path, LoadOptions()))
+    return {a.link.name: a.ratios for a in links.analyse(robot).values()}
+
+
 def rules_of(diagnostics):
     return sorted({(d.rule, d.severity) for d in diagnostics})
 
 
 def inertia(ixx, iyy, izz, ixy=0.0, ixz=0.0, iyz=0.0):
+    ixx, iyy, izz, ixy, ixz, iyz = (float(v) for v in (ixx, iyy, izz, ixy, ixz, iyz))
     return (f'<inertia ixx="{ixx!r}" ixy="{ixy!r}" ixz="{ixz!r}" iyy="{iyy!r}" iyz="{iyz!r}" '
             f'izz="{izz!r}"/>')
 
@@ -34,7 +46,7 @@ def inertia(ixx, iyy, izz, ixy=0.0, ixz=0.0, iyz=0.0):
 def link(name, mass, tensor, geometry="", origin="", geometry_origin="", inertial=True):
     body = ""
     if inertial:
-        body += f"<inertial>{origin}<mass value=\"{mass!r}\"/>{tensor}</inertial>"
+        body += f"<inertial>{origin}<mass value=\"{float(mass)!r}\"/>{tensor}</inertial>"
     if geometry:
         body += (f"<visual>{geometry_origin}<geometry>{geometry}</geometry></visual>"
                  f"<collision>{geometry_origin}<geometry>{geometry}</geometry></collision>")
@@ -72,6 +84,7 @@ def test_m2wr_wheel_rotated_on_both_sides_is_consistent(write):
     path = write(robot(link("wheel", 0.2, inertia(ixx, iyy, izz),
                             '<cylinder length="0.04" radius="0.1"/>', rpy, rpy)))
     assert findings(path, ("inertia", "mesh")) == []
+    assert ratios(path)["wheel"] == pytest.approx((1, 1, 1), rel=1e-12)
 
 
 def test_cylinder_along_y_inertial_frame_rotated_is_consistent(write):
@@ -80,6 +93,7 @@ def test_cylinder_along_y_inertial_frame_rotated_is_consistent(write):
     path = write(robot(link("a", 1.0, inertia(ixx, iyy, izz), '<cylinder radius="0.05" '
                             'length="0.3"/>', rot, rot)))
     assert findings(path) == []
+    assert ratios(path)["a"] == pytest.approx((1, 1, 1), rel=1e-12)
 
 
 def test_cylinder_along_y_with_unrotated_inertial_is_permuted(write):
@@ -107,11 +121,13 @@ def test_yawed_box_with_full_tensor_in_link_frame_is_consistent(write):
     path = write(robot(link("a", 2.0, tensor, '<box size="0.4 0.1 0.05"/>', "",
                             '<origin rpy="0 0 0.7"/>')))
     assert findings(path) == []
+    assert ratios(path)["a"] == pytest.approx((1, 1, 1), rel=1e-12)
     # and the same tensor in an inertial frame rotated like the box, written diagonal
     ixx, iyy, izz = box_i(2.0, 0.4, 0.1, 0.05)
     path = write(robot(link("a", 2.0, inertia(ixx, iyy, izz), '<box size="0.4 0.1 0.05"/>',
                             '<origin rpy="0 0 0.7"/>', '<origin rpy="0 0 0.7"/>')), "b.urdf")
     assert findings(path) == []
+    assert ratios(path)["a"] == pytest.approx((1, 1, 1), rel=1e-12)
 
 
 def test_geometry_offset_and_com_at_its_centre_is_consistent(write):
@@ -119,6 +135,7 @@ def test_geometry_offset_and_com_at_its_centre_is_consistent(write):
     path = write(robot(link("a", 1.5, inertia(ixx, iyy, izz), '<box size="0.2 0.2 0.6"/>',
                             '<origin xyz="0 0 -0.3"/>', '<origin xyz="0 0 -0.3"/>')))
     assert findings(path) == []
+    assert ratios(path)["a"] == pytest.approx((1, 1, 1), rel=1e-12)
 
 
 # -- validity -------------------------------------------------------------------------------
@@ -242,6 +259,10 @@ def test_exceeding_by_less_than_twice_is_a_warning(write):
     (d,) = findings(path)
     assert (d.rule, d.severity) == ("inertia.exceeds-geometry", "warning")
     assert "1.5x" in d.message
+    # 5% over: within rounding and mesh decimation, not reported
+    path = write(robot(link("a", m, inertia(0.006, 0.006, 0.0105),
+                            f'<cylinder radius="{r}" length="{h}"/>')), "near.urdf")
+    assert findings(path) == []
 
 
 def test_bound_uses_the_union_of_visual_and_collision(write):

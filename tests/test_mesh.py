@@ -44,7 +44,7 @@ def box_stl(tmp_path):
 def mesh_link(name, filename, mass=2.0, tensor=(1.0, 1.0, 1.0), scale=None, rpy="0 0 0",
               role="collision"):
     scale_attr = f' scale="{scale}"' if scale else ""
-    ixx, iyy, izz = tensor
+    ixx, iyy, izz = (float(v) for v in tensor)
     return (f'<link name="{name}"><inertial><mass value="{mass!r}"/><inertia ixx="{ixx!r}" '
             f'ixy="0" ixz="0" iyy="{iyy!r}" iyz="0" izz="{izz!r}"/></inertial>'
             f'<{role}><origin rpy="{rpy}"/><geometry><mesh filename="{filename}"{scale_attr}/>'
@@ -214,3 +214,15 @@ def test_pybullet_agrees_on_primitive_inertia(write):
                                        rtol=1e-9)
     finally:
         pybullet.disconnect(client)
+
+
+def test_visual_mesh_stands_in_when_the_collision_cannot_be_read(write, box_stl):
+    tensor = tuple(box_formula(2.0, 0.2, 0.1, 0.05).diagonal())
+    text = ('<robot name="r">' + mesh_link("a", "meshes/box.stl", 2.0, tensor, role="visual")
+            .replace("</link>", '<collision><geometry><mesh filename="meshes/gone.stl"/>'
+                                '</geometry></collision></link>') + "</robot>")
+    path = write(text)
+    _, result = analyse(path)
+    assert result["a"].derived_from == "visual", (result["a"].findings, result["a"].shapes)
+    np.testing.assert_allclose(result["a"].derived, np.diag(tensor), rtol=1e-6)
+    assert [d.rule for d in diagnostics(path)] == ["mesh.not-found"]

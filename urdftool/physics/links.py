@@ -18,11 +18,11 @@ from urdftool.physics import inertia as phys
 from urdftool.physics.inertia import Extent, Mat3, Solid, Vec3
 
 # thresholds (see the rule docs in urdftool/rules/inertia.py for the reasoning)
-BOUND_TOLERANCE = 1.01  # declared moments up to 1% above the bound are rounding
+BOUND_TOLERANCE = 1.1  # up to 10% above the bound: rounding, decimated meshes
 BOUND_ERROR = 2.0  # above 2x the bound: impossible even with undrawn parts
 TRIANGLE_TOLERANCE = 1e-2  # relative to the largest principal moment
 NEGATIVE_TOLERANCE = 1e-3  # a principal moment below -0.1% of the largest is negative
-ZERO_TOLERANCE = 1e-9  # ... and one below 1e-9 of the largest is zero
+TINY_MOMENT = 1e-15  # kg·m²: numerically zero (a 0.1 g part 0.1 mm across has 1e-12)
 PERMUTED_MATCH = 0.1  # relative tensor error of the best permutation
 PERMUTED_MISMATCH = 0.3  # relative tensor error as written
 UNIT_SLIPS = (1e3, 1e6, 1e-3, 1e-6)
@@ -104,7 +104,7 @@ def _positive(*values) -> bool:
     return all(v is not None and math.isfinite(v) and v > 0 for v in values)
 
 
-def _shape_info(robot, shape) -> ShapeInfo:
+def _shape_info(robot, shape, need_volume: bool = True) -> ShapeInfo:
     info = ShapeInfo(shape)
     g = shape.geometry
     rotation = phys.rpy_matrix(shape.origin.rpy)
@@ -130,13 +130,14 @@ def _shape_info(robot, shape) -> ShapeInfo:
         info.solid = phys.sphere_solid(g.radius).moved(rotation, translation)
         info.extent = phys.SphereExtent(g.radius, rotation, translation)
     elif g.kind == "mesh":
-        _mesh_shape(robot, info, rotation, translation)
+        _mesh_shape(robot, info, rotation, translation, need_volume)
     else:
         info.problem = "no geometry" if g.kind is None else f"unknown geometry <{g.kind}>"
     return info
 
 
-def _mesh_shape(robot, info: ShapeInfo, rotation: Mat3, translation: Vec3) -> None:
+def _mesh_shape(robot, info: ShapeInfo, rotation: Mat3, translation: Vec3,
+                need_volume: bool) -> None:
     from urdftool.physics import meshes
 
     g = info.shape.geometry
@@ -161,7 +162,7 @@ def _mesh_shape(robot, info: ShapeInfo, rotation: Mat3, translation: Vec3) -> No
     if not meshes.trimesh_available():
         info.problem = "trimesh is not installed"
         return
-    mesh = meshes.load_mesh(path)
+    mesh = meshes.load_mesh(path, need_volume=need_volume)
     info.mesh = mesh
     if not mesh.ok:
         info.problem = f"cannot load {path.name}: {mesh.error}"
@@ -190,7 +191,14 @@ def _moving_links(robot) -> set[str]:
 
 def analyse_link(robot, link, moving: bool = False) -> LinkAnalysis:
     a = LinkAnalysis(link, moving=moving)
-    a.shapes = [_shape_info(robot, s) for s in link.shapes]
+    # the inertia is derived from the collisions, or the visuals when there is no collision:
+    # only those meshes need their volume (the costly part of reading a mesh)
+    volume_role = "collision" if link.collisions else "visual"
+    a.shapes = [_shape_info(robot, s, s.role == volume_role) for s in link.shapes]
+    if link.collisions and not all(s.solid is not None for s in a.shapes
+                                   if s.shape.role == "collision"):
+        a.shapes = [_shape_info(robot, s.shape) if s.shape.role == "visual" else s
+                    for s in a.shapes]
     inertial = link.inertial
     if inertial is not None:
         a.mass = inertial.mass
@@ -225,15 +233,14 @@ def _judge(a: LinkAnalysis) -> None:
     if a.declared is None or a.principal is None:
         return
     low, mid, high = a.principal
-    if low < -NEGATIVE_TOLERANCE * abs(high) or high < 0:
+    if low < -max(NEGATIVE_TOLERANCE * abs(high), TINY_MOMENT):
         a.findings["not-positive-definite"] = "error"
         return
-    if low <= ZERO_TOLERANCE * high or high == 0:
+    if high <= TINY_MOMENT:  # a point mass
         if a.moving:
             a.findings["not-positive-definite"] = "warning"
-        if high == 0:
-            return
-    if high - (low + mid) > TRIANGLE_TOLERANCE * high:
+        return
+    if high - (low + mid) > max(TRIANGLE_TOLERANCE * high, TINY_MOMENT):
         a.findings["triangle-inequality"] = "error"
         return
     # bound over the union of visual and collision geometry

@@ -9,6 +9,7 @@ the real loads, for tests and benchmarks). The cache holds small summaries, not 
 from __future__ import annotations
 
 import re
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -44,6 +45,7 @@ class MeshInfo:
     # a COLLADA up axis other than Z: tools disagree (rviz and DART keep the file's
     # coordinates, assimp's default and others turn the up axis to z), so both are possible
     up_rotation: Mat3 | None = None
+    has_volume: bool = False  # the volume fields (solid, watertight, used_hull) are computed
 
     @property
     def ok(self) -> bool:
@@ -106,12 +108,18 @@ def _package_by_directory(uri: str, start: Path) -> Path | None:
     return None
 
 
-def load_mesh(path: Path | str) -> MeshInfo:
-    """The summary of a mesh file, loaded once per process (cached by resolved path)."""
+def load_mesh(path: Path | str, need_volume: bool = False) -> MeshInfo:
+    """The summary of a mesh file, loaded once per process (cached by resolved path).
+
+    The hull and extents are always computed; the enclosed volume and mass properties (which
+    need the mesh's topology: watertightness, winding) only with ``need_volume``, for the
+    meshes the inertia is derived from. An entry made without them is completed on demand
+    (a second read, only for a file first met as a visual and later needed for its volume).
+    """
     key = str(Path(path).resolve())
     info = _CACHE.get(key)
-    if info is None:
-        info = _CACHE[key] = _load(Path(key))
+    if info is None or (need_volume and not info.has_volume and info.ok):
+        info = _CACHE[key] = _load(Path(key), need_volume)
     return info
 
 
@@ -135,7 +143,7 @@ def _collada_frame(path: Path) -> tuple[float, Mat3 | None]:
     return (unit if unit > 0 else 1.0), rotation
 
 
-def _load(path: Path) -> MeshInfo:
+def _load(path: Path, need_volume: bool) -> MeshInfo:
     global LOADS
     if path.suffix.lower() not in LOADABLE:
         return MeshInfo(str(path), unsupported=True)
@@ -146,39 +154,103 @@ def _load(path: Path) -> MeshInfo:
 
     LOADS += 1
     try:
-        mesh = trimesh.load(str(path), force="mesh", skip_materials=True)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            mesh = _read(path)
+            if _empty(mesh) and path.suffix.lower() == ".dae":
+                mesh = _load_collada_geometry_only(path)
     except Exception as exc:  # noqa: BLE001 - any parser failure is a finding, not a crash
         return MeshInfo(str(path), error=f"{type(exc).__name__}: {exc}".strip())
-    if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
+    if not isinstance(mesh, trimesh.Trimesh) or _empty(mesh):
         return MeshInfo(str(path), error="no triangles in it")
-    unit, up_rotation = _collada_frame(path)
-    if unit != 1.0:
-        mesh.apply_scale(unit)
-    lower, upper = (tuple(float(x) for x in b) for b in mesh.bounds)
-    watertight = bool(mesh.is_watertight)
-    body, used_hull = mesh, False
-    if not (watertight and mesh.is_winding_consistent):
-        used_hull = True
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        return _summarise(path, mesh, need_volume)
+
+
+def _read(path: Path):
+    """The file's triangles as one mesh (scene graph transforms applied), without merging
+    vertices and without reading textures (an open file has no resolver for them)."""
+    import trimesh
+
+    with path.open("rb") as handle:
+        return trimesh.load(handle, file_type=path.suffix.lower().lstrip("."), force="mesh",
+                            process=False, skip_materials=True)
+
+
+def _empty(mesh) -> bool:
+    import trimesh
+
+    return not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0
+
+
+def _load_collada_geometry_only(path: Path):
+    """pycollada drops a node whose <bind_material> names a missing material or texture (the
+    node's geometry then vanishes); rviz and Gazebo still draw it. Materials do not matter
+    here: read the file again without them."""
+    import io
+
+    import trimesh
+
+    data = re.sub(rb"<bind_material>.*?</bind_material>", b"", path.read_bytes(), flags=re.DOTALL)
+    return trimesh.load(io.BytesIO(data), file_type="dae", force="mesh", process=False)
+
+
+def _solid(props, sign: float = 1.0) -> Solid | None:
+    import numpy as np
+
+    volume = float(props["volume"]) * sign
+    if not volume > 0:
+        return None
+    inertia = np.asarray(props["inertia"], dtype=float) * sign
+    second = np.trace(inertia) / 2.0 * np.eye(3) - inertia
+    return Solid(volume, tuple(float(x) for x in props["center_mass"]),  # type: ignore[arg-type]
+                 tuple(tuple(float(x) for x in row) for row in second))  # type: ignore[arg-type]
+
+
+def _hull(vertices):
+    """(hull vertices, oriented hull triangles) by qhull; (unique vertices, None) when the
+    points span no volume (a flat or degenerate mesh)."""
+    import numpy as np
+    from scipy.spatial import ConvexHull, QhullError
+
     try:
-        hull = mesh.convex_hull
-        hull_points = np.asarray(hull.vertices, dtype=float)
-    except Exception:  # noqa: BLE001 - flat or degenerate meshes have no 3-D hull
-        hull, hull_points = None, np.asarray(mesh.vertices, dtype=float)
-    if used_hull:
-        body = hull
+        hull = ConvexHull(vertices)
+    except (QhullError, ValueError):
+        return np.unique(vertices, axis=0), None
+    triangles = vertices[hull.simplices]
+    normals = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    flip = np.einsum("ij,ij->i", normals, hull.equations[:, :3]) < 0
+    triangles[flip] = triangles[flip][:, ::-1]
+    return vertices[hull.vertices], triangles
+
+
+def _summarise(path: Path, mesh, need_volume: bool) -> MeshInfo:
+    import numpy as np
+    from trimesh.triangles import mass_properties
+
+    unit, up_rotation = _collada_frame(path)
+    vertices = np.asarray(mesh.vertices, dtype=float) * unit
+    faces = np.asarray(mesh.faces)
+    lower = tuple(float(x) for x in vertices.min(axis=0))
+    upper = tuple(float(x) for x in vertices.max(axis=0))
+    hull_points, hull_triangles = _hull(vertices)
+    info = {"path": str(path), "hull": hull_points, "lower": lower, "upper": upper,
+            "faces": len(faces), "up_rotation": up_rotation}
+    if not need_volume:
+        return MeshInfo(**info)  # type: ignore[arg-type]
+    mesh.vertices = vertices
+    mesh.merge_vertices()  # STL repeats every vertex: merge before asking about topology
+    watertight = bool(mesh.is_watertight) and bool(mesh.is_winding_consistent)
     solid = None
-    if body is not None:
-        props = body.mass_properties  # density 1
-        volume = float(props["volume"])
-        sign = 1.0 if volume >= 0 else -1.0  # closed but inside-out: same body
-        if abs(volume) > 0:
-            inertia = np.asarray(props["inertia"], dtype=float) * sign
-            second = np.trace(inertia) / 2.0 * np.eye(3) - inertia
-            solid = Solid(abs(volume), tuple(float(x) for x in props["center_mass"]),  # type: ignore[arg-type]
-                          tuple(tuple(float(x) for x in row) for row in second))  # type: ignore[arg-type]
-    return MeshInfo(str(path), solid=solid, watertight=watertight, used_hull=used_hull,
-                    hull=hull_points, lower=lower, upper=upper, faces=len(mesh.faces),  # type: ignore[arg-type]
-                    up_rotation=up_rotation)
+    if watertight:
+        props = mass_properties(mesh.triangles)
+        solid = _solid(props, 1.0 if props["volume"] >= 0 else -1.0)  # inside-out: same body
+    used_hull = solid is None
+    if used_hull and hull_triangles is not None:
+        solid = _solid(mass_properties(hull_triangles))
+    return MeshInfo(**info, has_volume=True, solid=solid, watertight=watertight,  # type: ignore[arg-type]
+                    used_hull=used_hull)
 
 
 class MeshExtent(Extent):

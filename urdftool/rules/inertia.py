@@ -184,16 +184,18 @@ def massless_moving_link(robot):
 
 
 @rule("inertia.not-positive-definite", "error",
-      "the inertia tensor has a negative (or, on a moving link, zero) principal moment",
+      "the inertia tensor has a negative principal moment (or is zero on a moving link)",
       doc="""An inertia tensor is symmetric positive definite: every principal moment (its
 eigenvalue) is the sum of two positive second moments of the mass. A negative principal
 moment is impossible; simulators reject the link or integrate garbage. The usual cause is a
 sign convention: CAD tools export products of inertia as ∫xy dm, URDF wants the tensor
 element -∫xy dm, so `ixy`, `ixz`, `iyz` have the wrong sign.
 
-A zero principal moment (a point mass, an infinitely thin rod) on a link that moves is a
-warning: ODE rejects it and Bullet or MuJoCo clamp it to an arbitrary minimum. On a link fixed
-to another body it is harmless (the masses are lumped) and not reported.""",
+A zero tensor with a positive mass (a point mass) on a link that moves is a warning: a body of
+that mass has a size, ODE rejects it and Bullet or MuJoCo clamp it to an arbitrary minimum. On
+a link fixed to another body it is harmless (the masses are lumped) and not reported, and
+neither is a single zero moment (a thin rod along its axis, a common simplification). Moments
+below 1e-15 kg·m² count as zero.""",
       bad=_robot('<link name="a">\n  <inertial><mass value="1"/>'
                  '<inertia ixx="0.01" ixy="0.02" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>'
                  '</inertial>\n</link>'),
@@ -213,9 +215,9 @@ def not_positive_definite(robot):
                           hint="check the signs of ixy, ixz, iyz (URDF wants -∫xy dm; CAD "
                                "tools often export +∫xy dm)")
         else:
-            yield Finding(f"link '{a.link.name}' moves but its inertia is zero about a "
-                          f"principal axis ({moments}): a point mass or an infinitely thin rod; "
-                          "ODE rejects it, Bullet and MuJoCo clamp it",
+            yield Finding(f"link '{a.link.name}' moves but its inertia is zero ({moments}) "
+                          f"with a mass of {a.mass:g} kg: a point mass; ODE rejects it, Bullet "
+                          "and MuJoCo clamp it",
                           _inertia_loc(a.link), hint=_block_hint(a), severity="warning")
 
 
@@ -251,9 +253,10 @@ geometry (a body is not larger than what it looks like and what it touches; coll
 alone are often deliberately shrunk) and checks the axes of the inertial frame and the
 principal axes. More than 2x over the bound is an error: the declared inertia is physically
 impossible for that mass (typically a placeholder like `ixx="1"` on a 50 g finger, or a unit
-slip). Between 1x and 2x it is a warning: possible only if the geometry leaves out part of the
-body (a motor that is not drawn). Links whose geometry is missing or unreadable are not
-checked.""",
+slip). Between 1.1x and 2x it is a warning: possible only if the geometry leaves out part of
+the body (a motor that is not drawn). Up to 10% over is let through: rounded numbers and
+decimated meshes (whose hull is slightly smaller than the part) get that close to the bound.
+Links whose geometry is missing or unreadable are not checked.""",
       bad=_robot(_link("wheel", "0.1", ("1.0", "1.0", "1.0"),
                        '<cylinder radius="0.025" length="0.02"/>')),
       good=_robot(_link("wheel", "0.1", ("1.9e-05", "1.9e-05", "3.1e-05"),
@@ -375,13 +378,17 @@ this is advice only: worth a look, not necessarily wrong. Nothing is said below 
 def geometry_mismatch(robot):
     for a in _analyses(robot, "geometry-mismatch"):
         worst = max(a.ratios, key=lambda r: max(r, 1 / r) if r > 0 else math.inf)
+        worst = max(worst, 0.0)
         d = [a.declared[i][i] for i in range(3)]
         g = [a.derived[i][i] for i in range(3)]
-        factor = worst if worst >= 1 else 1 / worst
-        direction = "larger" if worst >= 1 else "smaller"
-        yield Finding(f"link '{a.link.name}': declared moments are up to {factor:.3g}x "
-                      f"{direction} than a uniform body of its {a.derived_from} geometry and "
-                      f"{a.mass:g} kg (ixx, iyy, izz declared {_g(d[0])}, {_g(d[1])}, "
+        if worst <= 0:
+            how = "declares a zero moment that"
+        else:
+            factor = worst if worst >= 1 else 1 / worst
+            how = (f"declared moments are up to {factor:.3g}x "
+                   + ("larger" if worst >= 1 else "smaller") + " than")
+        yield Finding(f"link '{a.link.name}': {how} a uniform body of its {a.derived_from} "
+                      f"geometry and {a.mass:g} kg (ixx, iyy, izz declared {_g(d[0])}, {_g(d[1])}, "
                       f"{_g(d[2])}; geometry {_g(g[0])}, {_g(g[1])}, {_g(g[2])} kg·m²)",
                       _inertia_loc(a.link), hint=_block_hint(a))
 
