@@ -393,7 +393,16 @@ def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Polic
                 work.add("xacro.error", Finding(f"xacro: {message}", loc))
             elif not work.problems:
                 work.add("xacro.error", Finding(f"xacro: {type(exc).__name__}: {exc}", loc))
-    return Expansion(expanded, list(files.paths), work.problems, work.texts)
+    return Expansion(expanded, list(files.paths), [_one_line(rule, f) for rule, f in work.problems],
+                     work.texts)
+
+
+def _one_line(rule: str, finding: Finding) -> tuple[str, Finding]:
+    """xacro's messages carry newlines ("...\nwhen evaluating expression '...'"): one line."""
+    if not rule.startswith("xacro.") or "\n" not in finding.message:
+        return rule, finding
+    message = "; ".join(part.strip() for part in finding.message.splitlines() if part.strip())
+    return rule, Finding(message, finding.loc, finding.hint, finding.severity)
 
 
 def _to_json(expansion: Expansion) -> dict:
@@ -461,11 +470,12 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
                                              timeout=timeout, memory_mb=options.memory_mb,
                                              env=env))
         except LimitExceeded as exc:
-            source.add("xacro.limit-exceeded", Finding(f"xacro: {exc}; expansion stopped",
-                                                       Loc(source.path, None, None)))
+            source.add(*_one_line("xacro.limit-exceeded", Finding(
+                f"xacro: {exc}; expansion stopped", Loc(source.path, None, None))))
             return
         except SandboxFailure as exc:
-            source.add("xacro.error", Finding(f"xacro: {exc}", Loc(source.path, None, None)))
+            source.add(*_one_line("xacro.error", Finding(f"xacro: {exc}",
+                                                         Loc(source.path, None, None))))
             return
     else:
         result = _xacro_pass(source, path, options, _Policy(deadline))
