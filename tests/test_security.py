@@ -360,3 +360,32 @@ def test_sandbox_result_is_json_not_pickle(tmp_path):
     with pytest.raises(SandboxFailure):
         run_isolated(send_pickle, (), timeout=10, memory_mb=256, env={})
     assert not marker.exists()
+
+
+TETRAHEDRON = "solid t\n" + "".join(
+    f"facet normal 0 0 0\nouter loop\n{a}\n{b}\n{c}\nendloop\nendfacet\n"
+    for a, b, c in [("vertex 0 0 0", "vertex 0 1 0", "vertex 1 0 0"),
+                    ("vertex 0 0 0", "vertex 1 0 0", "vertex 0 0 1"),
+                    ("vertex 0 0 0", "vertex 0 0 1", "vertex 0 1 0"),
+                    ("vertex 1 0 0", "vertex 0 1 0", "vertex 0 0 1")]) + "endsolid t\n"
+
+
+def test_untrusted_meshes_only_inside_the_package(tmp_path):
+    package = tmp_path / "pkg"
+    (package / "meshes").mkdir(parents=True)
+    (package / "package.xml").write_text("<package><name>pkg</name></package>")
+    (package / "meshes" / "inside.stl").write_text(TETRAHEDRON)
+    (tmp_path / "outside.stl").write_text(TETRAHEDRON)
+    path = package / "robot.urdf"
+    path.write_text('<robot name="r"><link name="a"><visual><geometry>'
+                    '<mesh filename="meshes/inside.stl"/></geometry></visual><collision><geometry>'
+                    '<mesh filename="../outside.stl"/></geometry></collision></link></robot>')
+
+    def not_found(mode):
+        report = json.loads(run_urdftool("check", "--format", "json", mode, "--select",
+                                         "mesh.not-found", path).out)
+        return [d["message"] for f in report["files"] for d in f["diagnostics"]]
+
+    assert not_found("--trusted") == []
+    (message,) = not_found("--untrusted")
+    assert "../outside.stl" in message and "outside-the-package-roots" in message

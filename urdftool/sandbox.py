@@ -24,11 +24,60 @@ import select
 import signal
 import sys
 import time
+from pathlib import Path
 
 from urdftool.safe_eval import LimitExceeded
 
 GRACE_SECONDS = 1.0  # the child stops itself at the deadline; it is killed this much later
 MAX_RESULT_BYTES = 1 << 30
+
+
+REFUSED = Path("/urdftool-untrusted-outside-the-package-roots")
+
+
+def package_roots(resolver, path: Path) -> list[Path]:
+    """Where an untrusted input may read: the packages known to its resolver (``-P``, its own
+    package and siblings, ``ROS_PACKAGE_PATH``, ``AMENT_PREFIX_PATH``) and its own package, or
+    its directory when no ``package.xml`` is above it."""
+    roots = list(resolver.roots()) if resolver is not None else []
+    directory = Path(path).resolve().parent
+    own = next((d for d in (directory, *directory.parents) if (d / "package.xml").is_file()),
+               directory)
+    roots.append(own)
+    resolved = []
+    for root in roots:
+        try:
+            resolved.append(Path(root).resolve())
+        except OSError:
+            continue
+    return resolved
+
+
+def inside(path, roots: list[Path]) -> bool:
+    try:
+        resolved = Path(path).resolve()
+    except (OSError, RuntimeError):
+        return False
+    return any(resolved.is_relative_to(root) for root in roots)
+
+
+def confine(resolver, path: Path):
+    """A resolver for an untrusted input: a mesh or resource URI that resolves outside the
+    package roots resolves instead to a path under ``REFUSED`` (which does not exist), so the
+    mesh rules report it as missing, with the refusal in the path they name."""
+    roots = package_roots(resolver, path)
+    original = resolver.resolve_uri
+
+    def resolve_uri(uri: str, base_dir: Path):
+        found = original(uri, base_dir)
+        if found is None or inside(found, roots):
+            return found
+        resolved = Path(found).resolve()
+        return REFUSED / resolved.relative_to(resolved.anchor)
+
+    resolver.resolve_uri = resolve_uri
+    resolver.confined_roots = roots
+    return resolver
 
 
 class SandboxFailure(Exception):

@@ -179,6 +179,10 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
     kind = detect_kind(file_path, text)
     source = Source(str(path), kind, texts={str(path): text},
                     resolver=PackageResolver(options.packages, file_path))
+    if options.untrusted:  # meshes and resources only inside the package roots (issue 8)
+        from urdftool.sandbox import confine
+
+        confine(source.resolver, file_path)
     if not text.strip():
         parse_text(text, str(path), source)  # reports xml.no-root
         return source

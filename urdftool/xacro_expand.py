@@ -333,23 +333,6 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             del xacro.open
 
 
-def _roots(source: Source, path: Path) -> list[Path]:
-    """Where an untrusted expansion may read: the known packages and the input's own package
-    (or directory)."""
-    roots = list(source.resolver.roots()) if source.resolver is not None else []
-    directory = path.resolve().parent
-    own = next((d for d in (directory, *directory.parents) if (d / "package.xml").is_file()),
-               directory)
-    roots.append(own)
-    resolved = []
-    for root in roots:
-        try:
-            resolved.append(Path(root).resolve())
-        except OSError:
-            continue
-    return resolved
-
-
 def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Policy) -> Expansion:
     """Run xacro on ``path``; everything it reports is in the returned Expansion."""
     from urdftool.safe_eval import LimitExceeded, UnsafeExpression
@@ -463,7 +446,12 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
         from urdftool.safe_eval import LimitExceeded
         from urdftool.sandbox import SandboxFailure, run_isolated
 
-        policy = _Policy(deadline, _roots(source, path), frozenset(options.allow_env))
+        roots = getattr(source.resolver, "confined_roots", None)
+        if roots is None:
+            from urdftool.sandbox import package_roots
+
+            roots = package_roots(source.resolver, path)
+        policy = _Policy(deadline, roots, frozenset(options.allow_env))
         env = {name: os.environ[name] for name in options.allow_env if name in os.environ}
         try:
             result = _from_json(run_isolated(_xacro_pass_json, (source, path, options, policy),
