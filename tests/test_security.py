@@ -389,3 +389,37 @@ def test_untrusted_meshes_only_inside_the_package(tmp_path):
     assert not_found("--trusted") == []
     (message,) = not_found("--untrusted")
     assert "../outside.stl" in message and "outside-the-package-roots" in message
+
+
+def test_untrusted_input_symlink_to_a_machine_file_is_not_read(tmp_path, monkeypatch):
+    """A PR can commit a symlink: robot.urdf -> a secret of the CI machine. Reporting its
+    'syntax errors' would print the secret into the CI log."""
+    secret = tmp_path / "home" / "id_rsa"
+    secret.parent.mkdir()
+    secret.write_text("-----BEGIN hunter2 KEY-----\n")
+    repo = tmp_path / "repo" / "robot_description"
+    repo.mkdir(parents=True)
+    (repo / "package.xml").write_text("<package><name>robot_description</name></package>")
+    (repo / "robot.urdf").symlink_to(secret)
+    monkeypatch.chdir(repo)
+    result = run_urdftool("check", "--untrusted", repo)
+    assert result.code == 2 and "outside the package roots" in result.err
+    assert "hunter2" not in result.out + result.err
+    assert "hunter2" in run_urdftool("check", "--trusted", repo).out  # what it would leak
+
+
+@pytest.mark.parametrize("mode", ["--trusted", "--untrusted"])
+def test_device_and_pipe_includes_are_refused(mode, tmp_path, monkeypatch):
+    os.mkfifo(tmp_path / "pipe.xacro")
+    (tmp_path / "zero.xacro").symlink_to("/dev/zero")
+    path = tmp_path / "robot.urdf.xacro"
+    path.write_text(HEAD + '  <xacro:include filename="pipe.xacro"/>\n'
+                    '  <xacro:include filename="zero.xacro"/>\n'
+                    '  <link name="${xacro.load_yaml(\'zero.xacro\')}"/>\n' + TAIL)
+    monkeypatch.chdir(tmp_path)
+    started = time.monotonic()
+    result = run_urdftool("check", "--format", "json", mode, path)
+    assert time.monotonic() - started < 10
+    messages = [d["message"] for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+                if d["rule"].startswith("xacro.")]
+    assert sum("pipe.xacro" in m or "zero" in m for m in messages) >= 2, messages

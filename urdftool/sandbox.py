@@ -40,7 +40,7 @@ def package_roots(resolver, path: Path) -> list[Path]:
     package and siblings, ``ROS_PACKAGE_PATH``, ``AMENT_PREFIX_PATH``) and its own package, or
     its directory when no ``package.xml`` is above it."""
     roots = list(resolver.roots()) if resolver is not None else []
-    directory = Path(path).resolve().parent
+    directory = Path(path).absolute().parent  # where the file is, not where a link points
     own = next((d for d in (directory, *directory.parents) if (d / "package.xml").is_file()),
                directory)
     roots.append(own)
@@ -59,6 +59,19 @@ def inside(path, roots: list[Path]) -> bool:
     except (OSError, RuntimeError):
         return False
     return any(resolved.is_relative_to(root) for root in roots)
+
+
+def check_input(path: Path, resolver) -> None:
+    """An untrusted input file itself: a regular file (not a device, FIFO or directory), and
+    inside the package roots (a symlink committed to a repository must not make urdftool read,
+    and quote, a file of the CI machine). Raises ToolError."""
+    from urdftool.errors import ToolError
+
+    if not Path(path).is_file():
+        raise ToolError(f"{path}: not a regular file (--untrusted reads only regular files)")
+    if not inside(path, package_roots(resolver, path)):
+        raise ToolError(f"{path}: links to {Path(path).resolve()}, outside the package roots; "
+                        "--untrusted does not follow it")
 
 
 def confine(resolver, path: Path):

@@ -175,14 +175,15 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
     file_path = Path(path)
     if not file_path.exists():
         raise ToolError(f"{path}: no such file")
+    resolver = PackageResolver(options.packages, file_path)
+    if options.untrusted:  # issue 8: regular files inside the package roots only
+        from urdftool.sandbox import check_input, confine
+
+        check_input(file_path, resolver)
+        confine(resolver, file_path)
     text = read_text(file_path)
     kind = detect_kind(file_path, text)
-    source = Source(str(path), kind, texts={str(path): text},
-                    resolver=PackageResolver(options.packages, file_path))
-    if options.untrusted:  # meshes and resources only inside the package roots (issue 8)
-        from urdftool.sandbox import confine
-
-        confine(source.resolver, file_path)
+    source = Source(str(path), kind, texts={str(path): text}, resolver=resolver)
     if not text.strip():
         parse_text(text, str(path), source)  # reports xml.no-root
         return source

@@ -174,6 +174,8 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             full = Path(xacro.root_dir if hasattr(xacro, "root_dir") else ".") / filename
             try:
                 policy.check_path(str(full))
+                if full.exists() and not full.is_file() and not full.is_dir():
+                    raise OSError(f"{full}: not a regular file (a device or a pipe)")
                 if full.is_file() and full.stat().st_size > MAX_FILE_BYTES:
                     raise LimitExceeded(f"{full}: larger than {MAX_FILE_BYTES >> 20} MB")
                 text = read_text(full)
@@ -314,6 +316,8 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     def confined_open(filename, *args, **kwargs):
         """xacro's own file reads (load_yaml): inside the package roots, of bounded size."""
         policy.check_path(filename)
+        if os.path.exists(filename) and not os.path.isfile(filename):
+            raise OSError(f"{filename}: not a regular file (a device or a pipe)")
         if os.path.isfile(filename) and os.path.getsize(filename) > MAX_FILE_BYTES:
             raise LimitExceeded(f"{filename}: larger than {MAX_FILE_BYTES >> 20} MB")
         return open(filename, *args, **kwargs)
