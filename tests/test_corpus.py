@@ -16,6 +16,7 @@ from tests.conftest import (
     pybullet_data_dir,
     pybullet_urdfs,
 )
+from tests.test_inertia_corpus import INERTIA_KNOWN_DEFECTS
 from urdftool.check import CheckOptions, check_file
 from urdftool.source import LoadOptions
 
@@ -207,6 +208,10 @@ KNOWN_DEFECTS.setdefault("pybullet_data/differential/diff_ring.urdf", {})["xml.d
     "a blank line before <?xml ...?>: strict parsers reject a declaration that is not first")
 KNOWN_DEFECTS["pybullet_data/humanoid/humanoid.urdf"]["xml.bad-character"] = (
     "a NUL byte after </robot>: strict parsers reject it, C-based tools stop reading there")
+
+# -- inertia, mesh: listed with their reasons in tests/test_inertia_corpus.py --------------------
+for _name, _rules in INERTIA_KNOWN_DEFECTS.items():
+    KNOWN_DEFECTS.setdefault(_name, {}).update(_rules)
 
 
 def _corpus() -> list[tuple[str, object]]:
