@@ -138,7 +138,8 @@ def test_zero_effort_joint_cannot_hold_its_load(results):
     assert entry["joint"] == "shoulder" and entry["effort"] == 0 and entry["saturated"]
     assert abs(entry["gravity_torque"]) == pytest.approx(5 * 9.81 * 0.25, rel=1e-3)
     assert abs(entry["error"]) > 0.3
-    assert "needs 12.3 N·m against gravity" in result.check("hold").message
+    assert "gravity needs 12.3 N·m" in result.check("hold").message
+    assert entry["saturated_by"] == "gravity"
 
 
 def test_swapped_limits_are_an_empty_range_pybullet_ignores(results):
@@ -172,6 +173,8 @@ def test_tiny_inertia_on_the_feet_makes_the_robot_sink(results):
     assert "sim.hold" in failed(bad)  # the ankles turn although gravity needs no torque there
     ankles = [e for e in bad.saturation if e["joint"].startswith("ankle")]
     assert ankles and all(abs(e["gravity_torque"]) < 1e-9 for e in ankles)
+    assert all(e["saturated_by"] is None for e in ankles)  # the motors are far from 20 N·m
+    assert "cannot hold the joint (tiny inertia or mass?)" in bad.check("hold").message
 
 
 def test_no_collision_geometry_falls_through_the_ground(results):

@@ -105,4 +105,4 @@ def test_baxter_cannot_hold_its_arms_out_with_its_shoulder_effort_limit(tmp_path
     entry = next(e for e in result.saturation if e["joint"] == "left_s1")
     assert entry["saturated"] and entry["effort"] == 50
     assert math.isclose(abs(entry["gravity_torque"]), needed, rel_tol=1e-9)
-    assert "left_s1" in hold.message and "saturates its effort limit" in hold.message
+    assert "left_s1" in hold.message and "so it saturates" in hold.message

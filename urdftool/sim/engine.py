@@ -505,17 +505,27 @@ class _Run:
                           joints=[])
         self.result.saturation = self._saturation(off)
         parts = []
+        held = "" if self.prepared.anchored else ", base held"
         for entry in self.result.saturation[:6]:
-            unit = "m" if entry["linear"] else "rad"
+            linear = entry["linear"]
+            unit, torque = ("m", "N") if linear else ("rad", "N·m")
             text = f"'{entry['joint']}' is {entry['error']:+.3g} {unit} off its home {entry['home']:g}"
-            needed = entry.get("gravity_torque")
-            effort = entry["effort"]
-            if needed is not None:
-                text += (f", needs {abs(needed):.3g} {'N' if entry['linear'] else 'N·m'} against "
-                         f"gravity (pinocchio RNEA{', base held' if not self.prepared.anchored else ''})"
-                         f" vs effort {'unlimited' if effort is None else f'{effort:g}'}")
-            if entry.get("saturated"):
-                text += ": saturates its effort limit"
+            needed, effort, applied = entry["gravity_torque"], entry["effort"], \
+                entry["applied_torque"]
+            limit = "no effort limit" if effort is None else f"effort limit {effort:g} {torque}"
+            if entry["saturated_by"] == "gravity":
+                text += (f": gravity needs {abs(needed):.3g} {torque} there (pinocchio RNEA"
+                         f"{held}), its {limit} is less, so it saturates")
+            elif entry["saturated_by"] == "load":
+                text += (f": its motor pushes at its {limit} (PyBullet)"
+                         + (f" though gravity needs only {abs(needed):.3g} {torque}"
+                            if needed is not None else "") +
+                         ": something else loads it (a contact, a fall)")
+            elif needed is not None:
+                text += (f" with its motor below its {limit} (gravity needs {abs(needed):.3g} "
+                         f"{torque}, PyBullet applies "
+                         f"{'?' if applied is None else f'{applied:.3g}'}): the simulation "
+                         "cannot hold the joint (tiny inertia or mass?)")
             parts.append(text)
         more = f" and {len(off) - 6} more" if len(off) > 6 else ""
         return _check("hold", "fail", "cannot hold the home pose: " + "; ".join(parts) + more,
@@ -535,12 +545,14 @@ class _Run:
             applied = float(self.mean_torque[k]) if self.mean_torque is not None else None
             needed = torques.get(fact.name)
             effort = fact.effort
-            saturated = effort is not None and (
-                (needed is not None and abs(needed) > effort) or
-                (applied is not None and applied >= 0.98 * effort))
+            by_gravity = effort is not None and needed is not None and abs(needed) > effort
+            by_load = effort is not None and applied is not None and applied >= 0.98 * effort
+            saturated = by_gravity or by_load
             entries.append({"joint": fact.name, "home": fact.home, "error": error,
                             "linear": fact.linear, "effort": effort, "gravity_torque": needed,
-                            "applied_torque": applied, "saturated": bool(saturated)})
+                            "applied_torque": applied, "saturated": bool(saturated),
+                            "saturated_by": "gravity" if by_gravity else "load" if by_load
+                            else None})
         entries.sort(key=lambda e: (not e["saturated"], -abs(e["error"])))
         return entries
 
