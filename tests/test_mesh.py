@@ -88,7 +88,11 @@ def test_box_mesh_with_its_formula_is_quiet_and_with_ones_is_flagged(write, box_
 
 def test_each_mesh_is_loaded_once_per_run(write, box_stl):
     meshes.clear_cache()
-    text = ('<robot name="r">' + mesh_link("a", "meshes/box.stl")
+    # the first link shows the file as a visual, later ones use it as a collision (whose
+    # volume the inertia needs): still one read
+    text = ('<robot name="r">' + mesh_link("v", "meshes/box.stl", role="visual")
+            + '<joint name="i" type="fixed"><parent link="v"/><child link="a"/></joint>'
+            + mesh_link("a", "meshes/box.stl")
             + '<joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>'
             + mesh_link("b", "./meshes/../meshes/box.stl", role="visual")
             + '<joint name="k" type="fixed"><parent link="a"/><child link="c"/></joint>'

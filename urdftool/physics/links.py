@@ -104,7 +104,8 @@ def _positive(*values) -> bool:
     return all(v is not None and math.isfinite(v) and v > 0 for v in values)
 
 
-def _shape_info(robot, shape, need_volume: bool = True) -> ShapeInfo:
+def _shape_info(robot, shape, need_volume: bool = True,
+                volume_files: set[str] | frozenset = frozenset()) -> ShapeInfo:
     info = ShapeInfo(shape)
     g = shape.geometry
     rotation = phys.rpy_matrix(shape.origin.rpy)
@@ -130,14 +131,14 @@ def _shape_info(robot, shape, need_volume: bool = True) -> ShapeInfo:
         info.solid = phys.sphere_solid(g.radius).moved(rotation, translation)
         info.extent = phys.SphereExtent(g.radius, rotation, translation)
     elif g.kind == "mesh":
-        _mesh_shape(robot, info, rotation, translation, need_volume)
+        _mesh_shape(robot, info, rotation, translation, need_volume, volume_files)
     else:
         info.problem = "no geometry" if g.kind is None else f"unknown geometry <{g.kind}>"
     return info
 
 
 def _mesh_shape(robot, info: ShapeInfo, rotation: Mat3, translation: Vec3,
-                need_volume: bool) -> None:
+                need_volume: bool, volume_files: set[str] | frozenset) -> None:
     from urdftool.physics import meshes
 
     g = info.shape.geometry
@@ -162,6 +163,7 @@ def _mesh_shape(robot, info: ShapeInfo, rotation: Mat3, translation: Vec3,
     if not meshes.trimesh_available():
         info.problem = "trimesh is not installed"
         return
+    need_volume = need_volume or str(path.resolve()) in volume_files
     mesh = meshes.load_mesh(path, need_volume=need_volume)
     info.mesh = mesh
     if not mesh.ok:
@@ -189,12 +191,14 @@ def _moving_links(robot) -> set[str]:
     return {j.child for j in robot.joints if j.moving and j.child is not None}
 
 
-def analyse_link(robot, link, moving: bool = False) -> LinkAnalysis:
+def analyse_link(robot, link, moving: bool = False,
+                 volume_files: set[str] | frozenset = frozenset()) -> LinkAnalysis:
     a = LinkAnalysis(link, moving=moving)
     # the inertia is derived from the collisions, or the visuals when there is no collision:
     # only those meshes need their volume (the costly part of reading a mesh)
     volume_role = "collision" if link.collisions else "visual"
-    a.shapes = [_shape_info(robot, s, s.role == volume_role) for s in link.shapes]
+    a.shapes = [_shape_info(robot, s, s.role == volume_role, volume_files)
+                for s in link.shapes]
     if link.collisions and not all(s.solid is not None for s in a.shapes
                                    if s.shape.role == "collision"):
         a.shapes = [_shape_info(robot, s.shape) if s.shape.role == "visual" else s
@@ -325,6 +329,23 @@ def is_placeholder(tensor: Mat3) -> bool:
 _last: tuple[object, dict[int, LinkAnalysis]] | None = None
 
 
+def _volume_files(robot) -> set[str]:
+    """The mesh files some link derives its inertia from (read with their volume from the
+    start, so that a file used as a visual here and a collision there is read once)."""
+    files: set[str] = set()
+    shapes = [s for link in robot.links for s in (link.collisions or link.visuals)
+              if s.geometry.kind == "mesh" and s.geometry.filename]
+    if not shapes:
+        return files
+    from urdftool.physics import meshes
+
+    for shape in shapes:
+        path = meshes.resolve(robot, shape.geometry)
+        if path is not None:
+            files.add(str(path.resolve()))
+    return files
+
+
 def analyse(robot) -> dict[int, LinkAnalysis]:
     """The analysis of every link of ``robot`` keyed by its index in ``robot.links`` (cached
     for the last robot analysed, so that every rule of a check run shares it)."""
@@ -332,7 +353,8 @@ def analyse(robot) -> dict[int, LinkAnalysis]:
     if _last is not None and _last[0] is robot:
         return _last[1]
     moving = _moving_links(robot)
-    result = {i: analyse_link(robot, link, link.name in moving)
+    volume_files = _volume_files(robot)
+    result = {i: analyse_link(robot, link, link.name in moving, volume_files)
               for i, link in enumerate(robot.links)}
     _last = (robot, result)
     return result
