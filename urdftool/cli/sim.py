@@ -138,7 +138,6 @@ def report_json(results, options, wall: float) -> dict:
         "summary": {"models": len(results),
                     "passed": sum(r.verdict == "pass" for r in results),
                     "failed": sum(r.verdict == "fail" for r in results),
-                    "skipped": sum(r.verdict == "skip" for r in results),
                     "wall_s": wall},
     }
 
@@ -165,10 +164,8 @@ def print_text(results, wall: float) -> None:
         name = escape(result.path)
         if result.robot and result.robot != result.path.rsplit("/", 1)[-1].split(".")[0]:
             name += f" [dim]({escape(result.robot)})[/]"
-        verdict = {"pass": "[green]pass[/]", "fail": "[bold red]FAIL[/]",
-                   "skip": "[dim]skip[/]"}[result.verdict]
-        failed = ", ".join(_short(c) for c in result.failures()) or (
-            escape(result.skipped) if result.skipped else "")
+        verdict = {"pass": "[green]pass[/]", "fail": "[bold red]FAIL[/]"}[result.verdict]
+        failed = ", ".join(_short(c) for c in result.failures())
         timing = result.timing
         taken = f"{timing.get('total', 0):.2f} s"
         if "load" in timing:
@@ -195,8 +192,7 @@ def print_text(results, wall: float) -> None:
             console.print(f"  picture: {escape(image)}")
     passed = sum(r.verdict == "pass" for r in results)
     failed = sum(r.verdict == "fail" for r in results)
-    skipped = sum(r.verdict == "skip" for r in results)
     console.print()
     console.print(f"{len(results)} model(s): [green]{passed} passed[/], "
                   f"{'[red]' if failed else ''}{failed} failed{'[/]' if failed else ''}"
-                  + (f", {skipped} skipped" if skipped else "") + f" in {wall:.2f} s")
+                  + f" in {wall:.2f} s")

@@ -87,12 +87,10 @@ class ModelResult:
     saturation: list[dict] = field(default_factory=list)  # joints that cannot hold the pose
     images: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
-    skipped: str | None = None  # why the file was not simulated (a xacro fragment)
 
     @property
     def verdict(self) -> str:
-        if self.skipped:
-            return "skip"
+        """'pass' or 'fail' (a model that did not load fails its load check)."""
         return "fail" if any(c.failed for c in self.checks) else "pass"
 
     def check(self, name: str) -> CheckResult | None:
