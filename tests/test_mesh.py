@@ -230,3 +230,25 @@ def test_visual_mesh_stands_in_when_the_collision_cannot_be_read(write, box_stl)
     assert result["a"].derived_from == "visual", (result["a"].findings, result["a"].shapes)
     np.testing.assert_allclose(result["a"].derived, np.diag(tensor), rtol=1e-6)
     assert [d.rule for d in diagnostics(path)] == ["mesh.not-found"]
+
+
+def test_untrusted_input_does_not_read_meshes_found_by_directory_name(tmp_path):
+    # package://other/... found as a directory beside the input's package: fine when trusted,
+    # outside the package roots when --untrusted
+    (tmp_path / "other").mkdir()
+    trimesh.creation.box(extents=(0.1, 0.1, 0.1)).export(tmp_path / "other" / "box.stl")
+    package = tmp_path / "pkg"
+    package.mkdir()
+    (package / "package.xml").write_text("<package><name>pkg</name></package>")
+    path = package / "robot.urdf"
+    path.write_text('<robot name="r"><link name="a"><visual><geometry>'
+                    '<mesh filename="package://other/box.stl"/></geometry></visual></link></robot>')
+
+    def mesh_findings(mode):
+        report = json.loads(run_urdftool("check", "--format", "json", mode, "--select", "mesh",
+                                         path).out)
+        return [d["message"] for f in report["files"] for d in f["diagnostics"]]
+
+    assert mesh_findings("--trusted") == []
+    (message,) = mesh_findings("--untrusted")
+    assert "outside-the-package-roots" in message

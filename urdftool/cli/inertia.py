@@ -8,7 +8,14 @@ import json
 
 import click
 
-from urdftool.cli import format_option, load_robot, package_option, split_args, stdout_console
+from urdftool.cli import (
+    format_option,
+    load_robot,
+    package_option,
+    split_args,
+    stdout_console,
+    untrusted_options,
+)
 
 _STYLE = {"error": "bold red", "warning": "yellow", "info": "cyan"}
 _ORDER = ("error", "warning", "info")
@@ -46,6 +53,7 @@ def _verdict(row: dict) -> str:
                    "of the declared mass.")
 @format_option("text", "json")
 @package_option
+@untrusted_options
 def command(inputs, link, density, fmt, packages):
     """Declared vs geometry-derived inertia per link, with a corrected <inertial> block for
     every link the inertia checks flag.

@@ -85,6 +85,13 @@ def resolve(robot, geometry) -> Path | None:
     path = resolver.resolve_uri(uri, base_dir)
     if path is None and uri.startswith("package://"):
         path = _package_by_directory(uri, base_dir)
+        roots = getattr(resolver, "confined_roots", None)
+        if path is not None and roots is not None:  # --untrusted: the package roots only
+            from urdftool.sandbox import REFUSED, inside
+
+            if not inside(path, roots):
+                resolved = path.resolve()
+                path = REFUSED / resolved.relative_to(resolved.anchor)
     return path
 
 
