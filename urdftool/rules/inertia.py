@@ -398,8 +398,9 @@ def geometry_mismatch(robot):
       doc="""The declared mass divided by the volume of the link's geometry is below
 10 kg/m³ (lighter than expanded polystyrene) or above 25000 kg/m³ (denser than any element).
 Either the mass or the geometry is off, often by a unit (grams, millimetres). Advice only:
-geometry can be a shell or leave parts out. Both the collision and the visual volumes must
-agree before anything is said.""",
+geometry can be a shell or leave parts out. When both the collision and the visual volume are
+known (primitives; meshes are measured where the inertia is derived from), both must agree
+before anything is said.""",
       bad=_robot(_link("a", "100", ("0.06", "0.06", "0.06"), '<box size="0.06 0.06 0.06"/>')),
       good=_robot(_link("a", "1", ("0.0006", "0.0006", "0.0006"), '<box size="0.06 0.06 0.06"/>')))
 def implausible_density(robot):
