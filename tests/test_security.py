@@ -275,7 +275,7 @@ def test_pathological_input_stops_within_the_limit(kind, mode, tmp_path):
     started = time.monotonic()
     result = run_urdftool("check", "--format", "json", mode, "--timeout", "2", path)
     elapsed = time.monotonic() - started
-    assert elapsed < 2 + 3, f"{kind} took {elapsed:.1f} s"
+    assert elapsed < 2 + 6, f"{kind} took {elapsed:.1f} s"  # 2 s limit, 1 s grace, slack
     assert result.code == 1, result.err
     rules = {d["rule"] for f in json.loads(result.out)["files"] for d in f["diagnostics"]}
     expected = "xacro.error" if kind == "recursive-property" else "xacro.limit-exceeded"
@@ -292,7 +292,7 @@ def test_huge_include_is_refused_without_reading_it(mode, tmp_path, monkeypatch)
     monkeypatch.chdir(tmp_path)
     started = time.monotonic()
     result = run_urdftool("check", "--format", "json", mode, path)
-    assert time.monotonic() - started < 5
+    assert time.monotonic() - started < 10
     diagnostics = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]]
     assert any(d["rule"] == "xacro.limit-exceeded" and "big.xacro" in d["message"]
                for d in diagnostics), diagnostics
@@ -319,7 +319,7 @@ def test_sandbox_child_is_killed_at_the_deadline():
     started = time.monotonic()
     with pytest.raises(LimitExceeded, match="longer than"):
         run_isolated(time.sleep, (30,), timeout=0.5, memory_mb=256, env={})
-    assert time.monotonic() - started < 3
+    assert time.monotonic() - started < 5
 
 
 def test_sandbox_environment_is_scrubbed(monkeypatch):
