@@ -68,7 +68,7 @@ def classify(message: str, robot: Robot | None = None) -> tuple[str, str, str | 
     text = message.removeprefix("xacro:").strip()
     expression = _EXPRESSION.search(text)
     expr = expression.group("expr").strip() if expression else None
-    head = _EXPRESSION.sub("", text).strip().rstrip(".")
+    head = _EXPRESSION.sub("", text).strip().rstrip(".;,: ")
     for kind, pattern in _PATTERNS:
         match = pattern.search(text)
         if match is None:
