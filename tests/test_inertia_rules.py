@@ -448,3 +448,42 @@ def test_corrected_seeds_are_quiet(path):
 def test_seed_wheel_rpy_is_not_exactly_a_right_angle_and_still_consistent():
     # 1.5707 is pi/2 rounded: the tensors agree to 1e-4 relative, far inside any threshold
     assert abs(1.5707 - math.pi / 2) < 1e-4
+
+
+NUMBERS = ["0", "-1", "1e-20", "0.05", "1", "1e9", "nan", "inf", "-inf", "abc", ""]
+
+
+def test_odd_numbers_never_break_the_rules(tmp_path):
+    """Every value the model can hold (None, nan, inf, 0, negative, huge) in every slot: the
+    rules and the inertia command stay quiet or report, they never fail."""
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    from tests.conftest import run_urdftool
+
+    number = st.sampled_from(NUMBERS)
+
+    @settings(max_examples=120, deadline=None)
+    @given(st.lists(number, min_size=18, max_size=18),
+           st.sampled_from(["box", "cylinder", "sphere", "capsule"]))
+    def check(values, kind):
+        v = iter(values)
+        size = {"box": f'size="{next(v)} {next(v)} {next(v)}"',
+                "cylinder": f'radius="{next(v)}" length="{next(v)}"',
+                "sphere": f'radius="{next(v)}"',
+                "capsule": f'radius="{next(v)}" length="{next(v)}"'}[kind]
+        text = robot(
+            '<link name="base"/>', joint("j", "base", "a"),
+            f'<link name="a"><inertial><origin xyz="{next(v)} 0 0" rpy="0 {next(v)} 0"/>'
+            f'<mass value="{next(v)}"/><inertia ixx="{next(v)}" ixy="{next(v)}" ixz="0" '
+            f'iyy="{next(v)}" iyz="0" izz="{next(v)}"/></inertial><visual><origin '
+            f'xyz="0 0 {next(v)}"/><geometry><{kind} {size}/></geometry></visual>'
+            f'<collision><geometry><mesh filename="m.stl" scale="{next(v)} 1 1"/></geometry>'
+            '</collision></link>')
+        path = tmp_path / "odd.urdf"
+        path.write_text(text)
+        ds = findings(path, ("inertia", "mesh"))
+        assert not [d for d in ds if "internal error" in d.message], ds
+        assert run_urdftool("inertia", path, "--format", "json").code in (0, 1)
+
+    check()

@@ -108,6 +108,9 @@ def _shape_info(robot, shape, need_volume: bool = True,
                 volume_files: set[str] | frozenset = frozenset()) -> ShapeInfo:
     info = ShapeInfo(shape)
     g = shape.geometry
+    if not all(math.isfinite(v) for v in shape.origin.xyz + shape.origin.rpy):
+        info.problem = "origin is not finite"
+        return info
     rotation = phys.rpy_matrix(shape.origin.rpy)
     translation = shape.origin.xyz
     if g.kind == "box":
@@ -207,7 +210,8 @@ def analyse_link(robot, link, moving: bool = False,
     if inertial is not None:
         a.mass = inertial.mass
         a.com = inertial.origin.xyz
-        a.frame = phys.rpy_matrix(inertial.origin.rpy)
+        if all(math.isfinite(v) for v in inertial.origin.rpy):
+            a.frame = phys.rpy_matrix(inertial.origin.rpy)
         a.declared = inertial.tensor
         if a.declared is not None:
             a.principal, a.principal_axes = phys.eigen_symmetric(a.declared)
@@ -247,6 +251,9 @@ def _judge(a: LinkAnalysis) -> None:
     if high - (low + mid) > max(TRIANGLE_TOLERANCE * high, TINY_MOMENT):
         a.findings["triangle-inequality"] = "error"
         return
+    inertial_origin = a.link.inertial.origin
+    if not all(math.isfinite(v) for v in inertial_origin.xyz + inertial_origin.rpy):
+        return  # the schema rules report it; nothing can be placed
     # bound over the union of visual and collision geometry
     if a.complete:
         extents = a.extents
@@ -354,8 +361,12 @@ def analyse(robot) -> dict[int, LinkAnalysis]:
         return _last[1]
     moving = _moving_links(robot)
     volume_files = _volume_files(robot)
-    result = {i: analyse_link(robot, link, link.name in moving, volume_files)
-              for i, link in enumerate(robot.links)}
+    result = {}
+    for i, link in enumerate(robot.links):
+        try:
+            result[i] = analyse_link(robot, link, link.name in moving, volume_files)
+        except (ArithmeticError, ValueError):  # numbers no analysis can use: say nothing
+            result[i] = LinkAnalysis(link, moving=link.name in moving)
     _last = (robot, result)
     return result
 

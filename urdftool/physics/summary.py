@@ -68,9 +68,20 @@ def inertia_data(robot, link: str | None = None, density: float | None = None) -
         rows.append(_row(a, by_link.get(index, []), density, force=link is not None))
     counts = {s: sum(f["severity"] == s for r in rows for f in r["findings"])
               for s in ("error", "warning", "info")}
-    return {"robot": robot.name, "density": density, "links": rows,
-            "summary": {"links": len(rows), "errors": counts["error"],
-                        "warnings": counts["warning"], "infos": counts["info"]}}
+    return _clean({"robot": robot.name, "density": density, "links": rows,
+                   "summary": {"links": len(rows), "errors": counts["error"],
+                               "warnings": counts["warning"], "infos": counts["info"]}})
+
+
+def _clean(value):
+    """Non-finite numbers (a nan written in the file) become None: JSON has no nan."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _clean(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_clean(v) for v in value]
+    return value
 
 
 def _row(a, findings: list[dict], density: float | None, force: bool) -> dict:
