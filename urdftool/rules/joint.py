@@ -1,5 +1,5 @@
-"""Rules of the `joint` family: joint types, axes, limits, safety controllers, dynamics and
-calibration.
+"""Rules of the `joint` family: limits (presence, ranges, effort, velocity), axes, safety
+controllers, dynamics and calibration.
 
 What the consumers do, which decides the severities here:
 
@@ -32,7 +32,7 @@ TURN_SLACK = 0.01  # rad: a range of 2π written as ±3.1416 is one turn, not mo
 
 
 def fmt(value: float) -> str:
-    """A number for a message (6 significant digits; JSON consumers get the message text)."""
+    """A number in a message: 6 significant digits (hints meant to be pasted use more)."""
     return f"{value:.6g}"
 
 
