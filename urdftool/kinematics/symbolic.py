@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from urdftool.errors import require
+from urdftool.errors import ToolError, require
 from urdftool.kinematics.chain import Chain
 
 EXACT = 1e-10
@@ -57,8 +57,12 @@ def _number(sp, value: float):
 
 
 def _scalar(sp, value: float):
-    """Multipliers and offsets: integers exactly, else full-precision Floats."""
-    return sp.Integer(int(value)) if float(value).is_integer() else sp.Float(repr(float(value)))
+    """Mimic multipliers and offsets: the decimal as written (0.1 -> 1/10, which trigsimp
+    handles far better than a Float), or a full-precision Float for a long one."""
+    text = repr(float(value))
+    if len(text.lstrip("-").replace(".", "").lstrip("0")) <= 10 and "e" not in text:
+        return sp.Rational(text)
+    return sp.Float(text)
 
 
 def _constant(sp, transform: np.ndarray, k: int, lengths: dict, snapped: list, what: str):
@@ -103,9 +107,20 @@ SIMPLIFY_LEVELS = ("auto", "full", "trig", "none")
 AUTO_TRIG_UP_TO = 6  # auto: trigsimp up to this many variables (ur5: seconds, panda: a minute)
 
 
-def _simplifier(sp, level: str, n: int):
+MAX_NODES = 300_000  # expression-tree size of the tip position beyond which we give up
+
+
+def _inexact(transform: np.ndarray, axis: np.ndarray | None = None) -> bool:
+    """Whether a constant rotation (or an axis) has entries that are not 0 or ±1."""
+    values = list(np.ravel(transform[:3, :3])) + (list(axis) if axis is not None else [])
+    return any(min(abs(v), abs(abs(v) - 1)) >= EXACT for v in values)
+
+
+def _simplifier(sp, level: str, chain: Chain):
     if level == "auto":
-        level = "trig" if n <= AUTO_TRIG_UP_TO else "none"
+        inexact = (any(_inexact(j.origin, j.axis) for j in chain.joints)
+                   or _inexact(chain.tool))
+        level = "trig" if chain.n <= AUTO_TRIG_UP_TO and not inexact else "none"
     if level == "full":
         return level, sp.simplify
     if level == "trig":
@@ -115,10 +130,11 @@ def _simplifier(sp, level: str, n: int):
 
 def symbolic_kinematics(chain: Chain, simplify: str = "auto") -> Symbolic:
     """Tip position and geometric Jacobian as sympy matrices. ``simplify``: ``full``
-    (sympy.simplify, slow), ``trig`` (trigsimp), ``none``, or ``auto`` (trig up to six
-    variables, none beyond: a 7-DoF arm takes minutes in trigsimp)."""
+    (sympy.simplify, slow), ``trig`` (trigsimp), ``none``, or ``auto``: trig up to six
+    variables when every rotation is a multiple of pi/2, none otherwise (a 7-DoF arm takes
+    minutes in trigsimp, and floating-point rotation entries leave nothing to simplify)."""
     sp = require("sympy", "kinematics")
-    level, simplifier = _simplifier(sp, simplify, chain.n)
+    level, simplifier = _simplifier(sp, simplify, chain)
     q = list(sp.symbols(f"q1:{chain.n + 1}", real=True))
     lengths: dict = {}
     snapped: list[str] = []
@@ -132,19 +148,32 @@ def symbolic_kinematics(chain: Chain, simplify: str = "auto") -> Symbolic:
         if joint.mimic:
             value = _scalar(sp, joint.multiplier) * value + _scalar(sp, joint.offset)
         current = current * _motion(sp, joint, value)
+        size = sum(1 for e in current[:3, 3] for _ in sp.preorder_traversal(e))
+        if size > MAX_NODES:
+            raise ToolError(
+                f"the symbolic expressions grow beyond {MAX_NODES} terms at joint "
+                f"'{joint.name}': rotations in the joint origins or axes that are not "
+                "multiples of pi/2 leave no compact closed form; use the numeric Jacobian "
+                "(--q)")
     current = current * _constant(sp, chain.tool, len(chain.joints), lengths, snapped,
                                   "tip transform")
     position = current[:3, 3]
     if simplifier is not None:
         position = position.applyfunc(simplifier)
-    linear = position.jacobian(q)
-    angular = sp.zeros(3, chain.n)
+    jacobian = sp.zeros(6, chain.n)
     for joint, frame in zip(chain.joints, frames):
+        axis = frame[:3, :3] * sp.Matrix([_number(sp, float(v)) for v in joint.axis])
+        multiplier = _scalar(sp, joint.multiplier)
         if joint.revolute:
-            axis = frame[:3, :3] * sp.Matrix([_number(sp, float(v)) for v in joint.axis])
-            angular[:, joint.variable] += _scalar(sp, joint.multiplier) * axis
-    jacobian = linear.col_join(angular)
+            jacobian[3:, joint.variable] += multiplier * axis
+        if simplifier is None:
+            # from the geometry, z x (p - o) (z for prismatic joints): no product rule, so no
+            # swell on long chains
+            linear = axis.cross(position - frame[:3, 3]) if joint.revolute else axis
+            jacobian[:3, joint.variable] += multiplier * linear
     if simplifier is not None:
+        # differentiate the simplified position: compact, and it simplifies further
+        jacobian[:3, :] = position.jacobian(q)
         jacobian = jacobian.applyfunc(simplifier)
     return Symbolic(chain, q, lengths, position, jacobian, sorted(set(snapped)), level)
 
@@ -164,8 +193,9 @@ def _legend(result: Symbolic, comment: str = "") -> list[str]:
     for what in result.snapped:
         lines.append(f"{comment}note: rotation entries of the {what} taken as exact 0/±1")
     if result.simplified == "none":
-        lines.append(f"{comment}note: not simplified (more than {AUTO_TRIG_UP_TO} variables or "
-                     "--simplify none; --simplify trig or full can take minutes)")
+        lines.append(f"{comment}note: not simplified (more than {AUTO_TRIG_UP_TO} variables, "
+                     "rotations that are not multiples of pi/2, or --simplify none; "
+                     "--simplify trig or full can take minutes)")
     return lines
 
 
