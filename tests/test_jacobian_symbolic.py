@@ -253,3 +253,15 @@ def test_seed_jacobian_beside_the_urdf_jacobian(seed_arm):
     values[l3] = 0.45
     difference = np.abs(numbers(seed_jac, values) - numbers(urdf_jac, values))
     assert difference[0, 1] > 0.01 and difference[0, 2] > 0.01
+
+
+def test_no_compact_closed_form_is_a_clear_error(write):
+    """Seven joints whose origins and axes are rotated by arbitrary angles: the expressions
+    would swell without bound; the command says so instead of running for hours."""
+    dense = _robot("dense", [(f"j{i}", "revolute", f"l{i}", f"l{i + 1}", "0.1 0.2 0.3",
+                              f"0.{i + 1} -0.{i + 2} 0.7", "0.3 0.5 0.8", (-2, 2))
+                             for i in range(7)])
+    result = run_urdftool("jacobian", str(write(dense)), "--symbolic")
+    assert result.code == 2
+    assert "no compact closed form; use the numeric Jacobian (--q)" in result.err
+    assert len(result.err.strip().splitlines()) == 1
