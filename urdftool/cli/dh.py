@@ -20,7 +20,12 @@ RESIDUAL_WARNING = 1e-9
 def print_table(console, table) -> None:
     """Print a rich table at its natural width: never truncate joint names to fit 80 columns."""
     natural = console.measure(table, options=console.options.update(max_width=10_000)).maximum
-    console.print(table, width=max(console.width, natural))
+    width = console.width
+    console.width = max(width, natural)  # print(width=...) cannot exceed the console's
+    try:
+        console.print(table)
+    finally:
+        console.width = width
 
 
 def number(value: float) -> str:
