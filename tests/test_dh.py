@@ -274,3 +274,13 @@ def test_unreadable_and_missing_file(write):
     assert result.code == 2 and "Traceback" not in result.err
     result = run_urdftool("dh", "/nonexistent/robot.urdf")
     assert result.code == 2 and "no such file" in result.err
+
+
+def test_text_mimic_variable_is_not_wrapped(write):
+    from tests.test_kinematics_pinocchio import MIMIC
+
+    result = run_urdftool("dh", str(write(MIMIC)), "--tip", "l4")
+    assert result.code == 0, result.err
+    assert "θ + q2, q2 = 0.5*q_other + 0.1" in result.out
+    assert "θ + q3, q3 = -2*q_j1" in result.out and "d + q4" in result.out
+    assert "'j2' mimics 'other'" in result.out
