@@ -30,7 +30,7 @@ VIA_ATTR = "urdftool-via"
 # xacro is run only when the file uses it: many generated URDFs keep an unused xmlns:xacro.
 _XACRO_USE_RE = re.compile(r"<xacro:|\$\{|\$\((?:find|arg|env|optenv|eval|dirname) ")
 _XACRO_ELEMENT_RE = re.compile(r"<xacro:")
-_COMMENT_RE = re.compile(r"<!--.*?-->", re.S)
+_COMMENT_RE = re.compile(r"<!--.*?-->", re.DOTALL)
 _ENCODING_DECL_RE = re.compile(r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2")
 
 
@@ -211,7 +211,8 @@ def quiet_stderr():
         yield buffer
 
 
-_INCLUDE_RE = re.compile(r"<xacro:include\s[^>]*filename\s*=\s*[\"']([^\"']+)[\"']")
+# includes, old unprefixed ones too: the files they name are fragments, not robots
+_INCLUDE_RE = re.compile(r"<(?:xacro:)?include\s[^>]*filename\s*=\s*[\"']([^\"']+)[\"']")
 
 
 def discover(paths: list[str]) -> list[Path]:

@@ -11,28 +11,18 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 
+from urdftool.physics.inertia import rpy_matrix
 from urdftool.report import Finding
 from urdftool.rules import rule
 
 # -- shapes -------------------------------------------------------------------------------------
 
 
-def _rotation(rpy) -> tuple[tuple[float, float, float], ...]:
-    """URDF's fixed-axis roll, pitch, yaw: R = Rz(yaw) Ry(pitch) Rx(roll)."""
-    roll, pitch, yaw = rpy
-    cr, sr = math.cos(roll), math.sin(roll)
-    cp, sp = math.cos(pitch), math.sin(pitch)
-    cy, sy = math.cos(yaw), math.sin(yaw)
-    return ((cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr),
-            (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr),
-            (-sp, cp * sr, cp * cr))
-
-
 def _bounds(shape) -> tuple[tuple[float, ...], tuple[float, ...]] | None:
     """Axis-aligned bounds (low, high) of a primitive shape in the link frame, or None."""
     geometry = shape.geometry
     kind = geometry.kind
-    rotation = _rotation(shape.origin.rpy)
+    rotation = rpy_matrix(shape.origin.rpy)
     if kind == "box" and geometry.size is not None:
         half = [abs(s) / 2 for s in geometry.size]
         extent = [sum(abs(rotation[i][k]) * half[k] for k in range(3)) for i in range(3)]

@@ -10,20 +10,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from urdftool.physics.inertia import rpy_matrix
+
 Vec3 = tuple[float, float, float]
 Mat3 = tuple[Vec3, Vec3, Vec3]
 
 IDENTITY_R: Mat3 = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
-
-
-def rpy_matrix(roll: float, pitch: float, yaw: float) -> Mat3:
-    """R = Rz(yaw) Ry(pitch) Rx(roll): fixed-axis roll, pitch, yaw (URDF and SDF alike)."""
-    cr, sr = math.cos(roll), math.sin(roll)
-    cp, sp = math.cos(pitch), math.sin(pitch)
-    cy, sy = math.cos(yaw), math.sin(yaw)
-    return ((cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr),
-            (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr),
-            (-sp, cp * sr, cp * cr))
 
 
 def quat_matrix(x: float, y: float, z: float, w: float) -> Mat3:
@@ -78,7 +70,7 @@ class Transform:
 
     @staticmethod
     def from_rpy(xyz: Vec3, rpy: Vec3) -> Transform:
-        return Transform(tuple(_clean(v) for v in xyz), rpy_matrix(*rpy),  # type: ignore[arg-type]
+        return Transform(tuple(_clean(v) for v in xyz), rpy_matrix(rpy),  # type: ignore[arg-type]
                          tuple(_clean(v) for v in rpy))  # type: ignore[arg-type]
 
     @staticmethod

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import multiprocessing
 import os
-import re
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
@@ -74,10 +73,6 @@ def _context():
     return multiprocessing.get_context("fork" if "fork" in methods else "spawn")
 
 
-# includes, old unprefixed ones too (a directory's fragments are not robots of their own)
-_INCLUDE_RE = re.compile(r"<(?:xacro:)?include\s[^>]*filename\s*=\s*[\"']([^\"']+)[\"']")
-
-
 def model_files(paths: list[str]) -> list[tuple[str, bool]]:
     """(file, found in a directory) for every robot file under ``paths``, found like ``check``
     does; in a directory, xacro files that another one includes are left out."""
@@ -85,18 +80,7 @@ def model_files(paths: list[str]) -> list[tuple[str, bool]]:
 
     files: list[tuple[str, bool]] = []
     for raw in paths:
-        found = discover([raw])
-        if Path(raw).is_dir():
-            included: set[str] = set()
-            for candidate in found:
-                if candidate.suffix == ".xacro":
-                    try:
-                        text = candidate.read_text(encoding="utf-8", errors="replace")
-                    except OSError:
-                        continue
-                    included.update(Path(m).name for m in _INCLUDE_RE.findall(text))
-            found = [f for f in found if not (f.suffix == ".xacro" and f.name in included)]
-        files.extend((str(f), Path(raw).is_dir()) for f in found)
+        files.extend((str(f), Path(raw).is_dir()) for f in discover([raw]))
     if not files:
         raise ToolError("no robot files (*.urdf, *.xacro, *.sdf) found in " + ", ".join(paths))
     return files
