@@ -27,7 +27,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from tests.conftest import example_robot_urdfs, pybullet_urdfs  # noqa: E402
+from tests.conftest import example_robot_urdfs, pybullet_urdfs
 
 SMALL = """<?xml version="1.0"?>
 <robot name="small">
@@ -64,7 +64,8 @@ def wall(command: list[str], runs: int, env: dict | None = None) -> float:
     times = []
     for _ in range(runs):
         start = time.perf_counter()
-        subprocess.run(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env)
+        subprocess.run(command, check=False, stdout=subprocess.DEVNULL,
+                       stderr=subprocess.DEVNULL, env=env, timeout=60)
         times.append(time.perf_counter() - start)
     return statistics.median(times)
 
@@ -85,20 +86,23 @@ def main() -> None:
 
         floor = wall([sys.executable, "-c", "import lxml.etree, click, xacro"], args.runs)
         ours_small = wall(urdftool + [str(small)], args.runs)
+        ours_small_text = wall(urdftool[:-2] + [str(small)], args.runs)
         theirs_small = wall(check_urdf + [str(small)], args.runs, env)
         ours_large = wall(urdftool + [str(large)], args.runs)
         theirs_large = wall(check_urdf + [str(large)], args.runs, env)
         ours_corpus = wall(urdftool + [str(p) for p in corpus], max(1, args.runs // 3))
         start = time.perf_counter()
         for path in corpus:
-            subprocess.run(check_urdf + [str(path)], stdout=subprocess.DEVNULL,
-                           stderr=subprocess.DEVNULL, env=env)
+            subprocess.run(check_urdf + [str(path)], check=False, stdout=subprocess.DEVNULL,
+                           stderr=subprocess.DEVNULL, env=env, timeout=60)
         theirs_corpus = time.perf_counter() - start
 
     ms = 1000.0
     print(f"floor (import lxml.etree, click, xacro): {floor * ms:7.1f} ms")
     print(f"small robot   urdftool {ours_small * ms:7.1f} ms   check_urdf {theirs_small * ms:6.1f} ms"
           f"   urdftool/floor = {ours_small / floor:.2f}x (target <= 1.5x)")
+    print(f"small robot   urdftool, rich text output {ours_small_text * ms:7.1f} ms   "
+          f"urdftool/floor = {ours_small_text / floor:.2f}x")
     print(f"large robot   ({large.name}, {n_links} links) urdftool {ours_large * ms:7.1f} ms   "
           f"check_urdf {theirs_large * ms:6.1f} ms   ratio {ours_large / theirs_large:.1f}x")
     print(f"corpus        {len(corpus)} files: urdftool (one process) {ours_corpus:6.2f} s   "
