@@ -299,17 +299,36 @@ def test_huge_include_is_refused_without_reading_it(mode, tmp_path, monkeypatch)
 
 
 def test_sandbox_memory_limit(tmp_path):
-    """A memory bomb the guards let through ('x' * 10**7, then replaced by itself) dies on the
-    child's RLIMIT_AS, not on the machine."""
+    """A memory bomb the guards let through (lists of ten million numbers, a hundred times)
+    dies on the child's RLIMIT_AS, not on the machine."""
     path = tmp_path / "bomb.urdf.xacro"
-    path.write_text(HEAD + '  <xacro:property name="s" value="${\'x\' * 10**7}"/>\n'
-                    '  <link name="${python.len(s.replace(\'x\', s))}"/>\n' + TAIL)
+    path.write_text(HEAD + '  <link name="${python.len([python.list(python.range(10**7)) '
+                    'for i in python.range(100)])}"/>\n' + TAIL)
     started = time.monotonic()
     result = run_urdftool("check", "--format", "json", "--untrusted", "--memory-limit", "256",
                           "--timeout", "20", path)
     assert time.monotonic() - started < 20
-    rules = {d["rule"] for f in json.loads(result.out)["files"] for d in f["diagnostics"]}
-    assert "xacro.limit-exceeded" in rules
+    messages = [d["message"] for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+                if d["rule"] == "xacro.limit-exceeded"]
+    assert any("memory" in m for m in messages), messages
+
+
+@pytest.mark.parametrize("expression", [
+    "'%100000000d' % 1", "'%*d' % (100000000, 1)", "'{:>100000000}'.format(1)",
+    "'{:{}}'.format(1, 100000000)", "'x'.center(10**9)", "('x' * 10**7).replace('x', 'xx')",
+    "math.factorial(10**6)", "'x' * 10**8", "[0] * 10**8", "python.range(10**9)",
+    "1 << 10**9", "10**10**6",
+])
+def test_size_guards(expression):
+    """Without the sandbox, expressions that would build gigabytes are stopped up front."""
+    import xacro
+
+    from urdftool.safe_eval import Evaluator, LimitExceeded
+
+    started = time.monotonic()
+    with pytest.raises(LimitExceeded):
+        Evaluator().eval_expression(expression, xacro.Table(xacro._global_symbols))
+    assert time.monotonic() - started < 1
 
 
 def test_sandbox_child_is_killed_at_the_deadline():

@@ -23,6 +23,7 @@ from __future__ import annotations
 import ast
 import math
 import operator
+import re
 import time
 import types
 
@@ -161,7 +162,7 @@ class _Guard(ast.NodeTransformer):
 
     def visit_BinOp(self, node):
         self.generic_visit(node)
-        if isinstance(node.op, (ast.Pow, ast.LShift, ast.Mult)):
+        if isinstance(node.op, (ast.Pow, ast.LShift, ast.Mult, ast.Mod)):
             name = type(node.op).__name__
             return ast.copy_location(ast.Call(ast.Name(_G_BINOP, ast.Load()),
                                               [ast.Constant(name), node.left, node.right], []),
@@ -267,6 +268,7 @@ class _SafeFormat:
             template = self.template
         if isinstance(template, str):
             _check_format(template, template)
+            _check_widths(template, (*args, *kwargs.values()))
         return template.format(*args, **kwargs)
 
 
@@ -291,6 +293,57 @@ def _check_format(template: str, whole: str, depth: int = 0) -> None:
                                    partial=True)
         if spec:
             _check_format(spec, whole, depth + 1)
+
+
+_WIDTH_RE = re.compile(r"\d{8,}")
+_PERCENT_RE = re.compile(r"%(?:\([^)]*\))?[-+ #0]*(?:\*|\d+)?(?:\.(?:\*|\d+))?")
+_PADDING = frozenset({"center", "ljust", "rjust", "zfill"})
+_BIG_MATH = frozenset({"factorial", "comb", "perm"})
+
+
+def _check_widths(template: str, values, percent: bool = False) -> None:
+    """'%100000000d', '{:>100000000}' or a width given as an argument ('%*d', '{:{}}') would
+    build a string of that size."""
+    import _string
+
+    if percent:
+        specs = _PERCENT_RE.findall(template)
+        nested = any("*" in spec for spec in specs)
+    else:
+        try:
+            specs = [spec or "" for _, _, spec, _ in _string.formatter_parser(template)]
+        except ValueError:
+            return  # str.format raises the same error
+        nested = any("{" in spec for spec in specs)
+    if any(_WIDTH_RE.search(spec) for spec in specs) or (nested and any(
+            isinstance(v, int) and v > MAX_ITEMS for v in values)):
+        raise LimitExceeded("a format width makes too long a string")
+
+
+def _check_size(function, args, kwargs) -> None:
+    """Calls whose result size the arguments decide: refuse the gigantic ones up front."""
+    name = getattr(function, "__name__", "")
+    owner = getattr(function, "__self__", None)
+    if function is pow and len(args) == 2 and all(isinstance(a, int) for a in args):
+        base, exponent = args
+        if exponent > 0 and abs(base) > 1 and exponent * math.log2(abs(base)) > MAX_INT_BITS:
+            raise LimitExceeded(f"{base} ** {exponent} is too large a number")
+    elif name in _BIG_MATH and getattr(function, "__module__", None) == "math":
+        if any(isinstance(a, int) and a > 100_000 for a in args):
+            raise LimitExceeded(f"math.{name} of a number that large takes too long")
+    elif isinstance(owner, str) and args:
+        if name in _PADDING and isinstance(args[0], int) and args[0] > MAX_ITEMS:
+            raise LimitExceeded(f"str.{name}({args[0]}) makes too long a string")
+        if name == "expandtabs" and isinstance(args[0], int) \
+                and args[0] * owner.count("\t") > MAX_ITEMS:
+            raise LimitExceeded("str.expandtabs makes too long a string")
+        if name == "replace" and len(args) >= 2 and isinstance(args[0], str) \
+                and isinstance(args[1], str):
+            count = (owner.count(args[0]) if args[0] else len(owner) + 1)
+            if len(args) > 2 and isinstance(args[2], int) and args[2] >= 0:
+                count = min(count, args[2])
+            if len(owner) + count * (len(args[1]) - len(args[0])) > MAX_ITEMS:
+                raise LimitExceeded("str.replace makes too long a string")
 
 
 class Evaluator:
@@ -373,6 +426,8 @@ class Evaluator:
     def _callable_ok(self, function) -> bool:
         if id(function) in self.allowed or isinstance(function, _SafeFormat):
             return True
+        if function is str.maketrans or function is bytes.maketrans:
+            return True
         if isinstance(function, types.BuiltinMethodType):
             owner = function.__self__
             kind = owner if isinstance(owner, type) else type(owner)
@@ -399,6 +454,7 @@ class Evaluator:
                 name = getattr(value, "__name__", type(value).__name__)
                 raise UnsafeExpression(name, f"passing '{name}' to a function is not allowed",
                                        partial=True)
+        _check_size(function, args, kwargs)
         if id(function) in self.range_functions:
             result = function(*args, **kwargs)
             if isinstance(result, range) and len(result) > MAX_ITEMS:
@@ -408,9 +464,8 @@ class Evaluator:
 
     def _iter(self, iterable):
         """A comprehension's iterable, with the deadline checked as it runs."""
-        for count, item in enumerate(iterable):
-            if not count & 0x3FF:
-                self._tick()
+        for item in iterable:
+            self._tick()
             yield item
 
     def _binop(self, name, left, right):
@@ -419,6 +474,10 @@ class Evaluator:
                     and abs(left) > 1 and right * math.log2(abs(left)) > MAX_INT_BITS:
                 raise LimitExceeded(f"{left} ** {right} is too large a number")
             return operator.pow(left, right)
+        if name == "Mod":
+            if isinstance(left, str):
+                _check_widths(left, right if isinstance(right, tuple) else (right,), True)
+            return operator.mod(left, right)
         if name == "LShift":
             if isinstance(left, int) and isinstance(right, int) and right > MAX_INT_BITS:
                 raise LimitExceeded(f"{left} << {right} is too large a number")
