@@ -205,6 +205,7 @@ def test_untrusted_reads_inside_the_package_and_given_packages(tmp_path, monkeyp
     ("python.type('X', (), dict())", "not allowed"),
     ("python.map(python.type, [1])", "not allowed"),
     ("python.vars(xacro)", "not allowed"),
+    ("xacro.dotify(python).type", "'type' is not allowed"),
     ("(x for x in [1]).close()", "generator"),
     ("'{0.real}'.format(1)", "format field"),
     ("str.format('{0.imag}', 2)", "format field"),

@@ -405,7 +405,11 @@ class Evaluator:
             if _real_attribute(obj, name) and name not in _methods_for(kind):
                 raise UnsafeExpression(name, f"attribute '{name}' of YAML data is not "
                                                  "allowed", partial=True)
-            return getattr(obj, name)
+            value = getattr(obj, name)
+            if id(value) in self.forbidden:
+                raise UnsafeExpression(name, f"'{name}' is not allowed in expressions",
+                                       partial=True)
+            return value
         if kind in _METHODS:
             if name not in _METHODS[kind]:
                 raise UnsafeExpression(name, f"attribute '{name}' of a {kind.__name__} is not "
