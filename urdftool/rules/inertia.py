@@ -360,11 +360,12 @@ def com_outside_geometry(robot):
     for a in _analyses(robot, "com-outside-geometry"):
         x, y, z = a.com
         loc = _origin_loc(robot, a.link) or a.link.inertial.loc or a.link.loc
+        width = (f"{a.com_distance / a.com_thickness:.0%} of the body's "
+                 f"{_g(a.com_thickness)} m width in that direction" if a.com_thickness > 0
+                 else "the body is flat in that direction")
         yield Finding(f"link '{a.link.name}': centre of mass ({x:g}, {y:g}, {z:g}) lies "
                       f"{_g(a.com_distance)} m outside the convex hull of its visual and "
-                      f"collision geometry ({a.com_distance / a.com_thickness:.0%} of the "
-                      f"body's {_g(a.com_thickness)} m width in that direction)", loc,
-                      hint=_centroid_hint(a))
+                      f"collision geometry ({width})", loc, hint=_centroid_hint(a))
 
 
 @rule("inertia.geometry-mismatch", "info",
