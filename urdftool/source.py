@@ -150,7 +150,10 @@ def _column(line_text: str, tag: str) -> int | None:
 
 
 def _qualified_tag(element) -> str:
-    local = etree.QName(element).localname
+    try:
+        local = etree.QName(element).localname
+    except ValueError:  # a name lxml's recovery let through (e.g. "colo:")
+        return str(element.tag)
     return f"{element.prefix}:{local}" if element.prefix else local
 
 
