@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:  # pragma: no cover
     from lxml import etree
 
-    from urdftool.source import Source  # noqa: F401
+    from urdftool.source import Source
 
 Vec3 = tuple[float, float, float]
 
@@ -238,13 +238,15 @@ class Robot:
 
 
 def parse_float(text: str | None) -> float | None:
-    """A float, or None when absent or unparsable (the schema rules report those)."""
+    """A finite float, or None when absent, unparsable or nan/inf (urdfdom rejects those too;
+    the schema rules report them)."""
     if text is None:
         return None
     try:
-        return float(text.strip())
+        value = float(text.strip())
     except ValueError:
         return None
+    return value if math.isfinite(value) else None
 
 
 def parse_vector(text: str | None, size: int = 3) -> tuple[float, ...] | None:
@@ -254,9 +256,10 @@ def parse_vector(text: str | None, size: int = 3) -> tuple[float, ...] | None:
     if len(parts) != size:
         return None
     try:
-        return tuple(float(p) for p in parts)
+        values = tuple(float(p) for p in parts)
     except ValueError:
         return None
+    return values if all(math.isfinite(v) for v in values) else None
 
 
 def _child(element, tag: str):

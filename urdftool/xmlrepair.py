@@ -212,7 +212,7 @@ class _Open:
     name: str
     start: int  # offset of '<'
     tag_end: int  # offset just after '>'
-    prefixes: set = field(default_factory=set)  # namespace prefixes declared here
+    prefixes: set = field(default_factory=set)  # namespace prefixes in scope here (inherited)
     children: list = field(default_factory=list)  # (name, start offset)
     first_text: tuple[int, int] | None = None  # non-blank text before the first child
     reopened: bool = False
@@ -613,7 +613,7 @@ class _Scanner:
         used = [q for q in [name, *attributes] if ":" in q and not q.startswith(("xmlns", "xml:"))]
         if not used:
             return declared
-        known = declared.union(*(element.prefixes for element in self.stack))
+        known = declared | self.stack[-1].prefixes if self.stack else declared
         for qname in used:
             prefix = qname.split(":", 1)[0]
             if prefix in known or prefix in self.undeclared or prefix == "xml":
@@ -641,7 +641,9 @@ class _Scanner:
                 return
         self.stack[-1].children.append((name, start))
         if not selfclose:
-            self.stack.append(_Open(name, start, tag_end, declared))
+            inherited = self.stack[-1].prefixes
+            self.stack.append(_Open(name, start, tag_end,
+                                    inherited | declared if declared else inherited))
 
     def after_root(self, name: str, start: int) -> bool:
         """An element after the root ended: reopen the root (True) or drop the rest."""
@@ -765,7 +767,7 @@ class _Scanner:
         moved = top.children[first:]
         del top.children[first:]
         top.children.append((name, child_start))
-        self.stack.append(_Open(name, child_start, child_start, children=moved))
+        self.stack.append(_Open(name, child_start, child_start, top.prefixes, children=moved))
         return True
 
     def pop(self, start: int, end: int) -> None:
