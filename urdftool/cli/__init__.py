@@ -195,7 +195,7 @@ def main(argv: list[str] | None = None) -> None:
         sys.exit(2)
     except BrokenPipeError:
         sys.exit(1)
-    except Exception as exc:  # noqa: BLE001 - never a traceback without --debug
+    except Exception as exc:
         if debug:
             raise
         click.echo(f"urdftool: internal error: {type(exc).__name__}: {exc} "
