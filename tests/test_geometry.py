@@ -155,3 +155,15 @@ def test_collision_on_a_welded_child_counts(write):
         + '</link>\n  <joint name="weld" type="fixed"><parent link="wheel"/>'
         '<child link="tyre"/></joint>\n</robot>')
     assert fired(write(text), "geometry.missing-collision") == []
+
+
+@pytest.mark.parametrize("origin, size", [("-1e308 0 0", "1 1 1"), ("0 0 0", "1e308 1e308 1")])
+def test_visual_collision_mismatch_survives_absurd_numbers(write, origin, size):
+    """Found by the fuzzer: huge origins or sizes overflowed the comparison."""
+    from urdftool.check import CheckOptions, check_file
+
+    path = write(f'<robot name="r"><link name="a"><visual><origin xyz="{origin}"/><geometry>'
+                 f'<box size="{size}"/></geometry></visual><collision><geometry>'
+                 '<box size="1 1 1"/></geometry></collision></link></robot>')
+    report = check_file(path, CheckOptions(select=["geometry"]))
+    assert not [d for d in report.diagnostics if "internal error" in d.message]

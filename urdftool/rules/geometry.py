@@ -15,6 +15,8 @@ from urdftool.physics.inertia import rpy_matrix
 from urdftool.report import Finding
 from urdftool.rules import rule
 
+HUGE = 1e9  # metres: bounds beyond this are not a robot
+
 # -- shapes -------------------------------------------------------------------------------------
 
 
@@ -177,6 +179,9 @@ def visual_collision_mismatch(robot) -> Iterator[Finding]:
         collision_boxes = [_bounds(s) for s in link.collisions]
         if None in visual_boxes or None in collision_boxes:
             continue  # a mesh, or a size that does not parse
+        if any(abs(v) > HUGE for box in visual_boxes + collision_boxes for corner in box
+               for v in corner):
+            continue  # not a physical size (e.g. an origin at -1e308): nothing to compare
         visual, collision = _union(visual_boxes), _union(collision_boxes)
         seen, solid = _size(visual), _size(collision)
         if min(seen, solid) < PLACEHOLDER:
