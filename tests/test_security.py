@@ -443,3 +443,32 @@ def test_device_and_pipe_includes_are_refused(mode, tmp_path, monkeypatch):
     messages = [d["message"] for f in json.loads(result.out)["files"] for d in f["diagnostics"]
                 if d["rule"].startswith("xacro.")]
     assert sum("pipe.xacro" in m or "zero" in m for m in messages) >= 2, messages
+
+
+def test_untrusted_sdf_includes_only_inside_the_package(tmp_path, monkeypatch):
+    """An SDF <include> may name any directory: under --untrusted only the package roots and
+    the model paths the user gave are read."""
+    outside = tmp_path / "machine" / "secret_model"
+    outside.mkdir(parents=True)
+    (outside / "model.config").write_text('<model><sdf version="1.7">model.sdf</sdf></model>')
+    (outside / "model.sdf").write_text('<sdf version="1.7"><model name="hunter2">'
+                                       '<link name="hunter2_link"/></model></sdf>')
+    package = tmp_path / "robot_description"
+    package.mkdir()
+    (package / "package.xml").write_text("<package><name>robot_description</name></package>")
+    path = package / "world.sdf"
+    path.write_text('<sdf version="1.7"><model name="m"><link name="a"/><include>'
+                    f"<uri>{outside}</uri></include></model></sdf>")
+    monkeypatch.chdir(package)
+
+    def include_findings(*mode):
+        result = run_urdftool("check", "--format", "json", *mode, path)
+        return result.out, [d["message"] for f in json.loads(result.out)["files"]
+                            for d in f["diagnostics"] if d["rule"] == "sdf.include"]
+
+    out, messages = include_findings("--trusted")
+    assert messages == [] and "hunter2" in out  # your own files: read as written
+    out, (message,) = include_findings("--untrusted")
+    assert "outside the package roots" in message and "hunter2" not in out
+    out, messages = include_findings("--untrusted", "--model-path", str(outside.parent))
+    assert messages == []  # a folder the user names is allowed

@@ -418,10 +418,19 @@ class Reader:
             self.report("sdf.include", f"cannot resolve include '{uri}' (model paths: {where})",
                         include, hint=hint)
             return None
+        if not self._allowed(target):
+            self.report("sdf.include", f"include '{uri}' resolves to {target}, outside the "
+                        "package roots; --untrusted does not read it", include,
+                        hint="give the models' folder with --model-path DIR")
+            return None
         file = self._model_file(target)
         if file is None:
             self.report("sdf.include", f"include '{uri}': no SDF file in {target}", include,
                         hint="a model folder holds model.config and model.sdf")
+            return None
+        if not self._allowed(file):  # model.config may name a file anywhere
+            self.report("sdf.include", f"include '{uri}': its model.config names {file}, "
+                        "outside the package roots; --untrusted does not read it", include)
             return None
         if file.resolve() in self._include_stack or len(self._include_stack) >= MAX_INCLUDE_DEPTH:
             self.report("sdf.include", f"include '{uri}' includes itself (through {file})", include)
@@ -457,6 +466,17 @@ class Reader:
             return self.read_model(models[0], included_doc, parent, include, merge, name)
         finally:
             self._include_stack.pop()
+
+    def _allowed(self, path: Path) -> bool:
+        """Under --untrusted, includes are read only inside the package roots and the model
+        paths the user gave (--model-path, GZ_SIM_RESOURCE_PATH...), never where the input
+        points (an absolute path, ``../..``, a symlink)."""
+        roots = getattr(self.source.resolver, "confined_roots", None)
+        if roots is None:
+            return True
+        from urdftool.sandbox import inside
+
+        return inside(path, [*roots, *(p.resolve() for p in self.model_paths)])
 
     def search_dirs(self, base: Path) -> list[Path]:
         return [*self.model_paths, base, base.parent]
