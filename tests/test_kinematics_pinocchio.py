@@ -123,6 +123,9 @@ CASES = {
     "ur5-tool0": (lambda: _erd("ur_description/urdf/ur5_robot.urdf"), "base_link", "tool0"),
     "panda-hand": (lambda: _erd("panda_description/urdf/panda.urdf"), None, "panda_hand"),
     "panda-link8": (lambda: _erd("panda_description/urdf/panda.urdf"), None, "panda_link8"),
+    # a base that is rotated in the world: the Jacobian is expressed in its axes
+    "panda-from-link2": (lambda: _erd("panda_description/urdf/panda.urdf"), "panda_link2",
+                         "panda_hand"),
     "iiwa": (lambda: pybullet_data_dir() / "kuka_iiwa" / "model.urdf", None, None),
     "dual_arm-left": (lambda: DUAL_ARM, None, "link_eeleft"),
     "dual_arm-right": (lambda: DUAL_ARM, None, "link_003"),
@@ -178,10 +181,15 @@ class Subject:
         return (base.inverse() * self.data.oMf[self.tip_frame]).homogeneous
 
     def jacobian(self, q) -> np.ndarray:
-        """pinocchio's LOCAL_WORLD_ALIGNED frame Jacobian, columns summed per chain variable
-        (a mimic follower's column times its multiplier goes to its leader)."""
-        full = pin.computeFrameJacobian(self.model, self.data, self.pin_q(q), self.tip_frame,
+        """pinocchio's LOCAL_WORLD_ALIGNED frame Jacobian turned into the base link's axes
+        (the chain's joints do not move the base), columns summed per chain variable (a mimic
+        follower's column times its multiplier goes to its leader)."""
+        config = self.pin_q(q)
+        full = pin.computeFrameJacobian(self.model, self.data, config, self.tip_frame,
                                         pin.LOCAL_WORLD_ALIGNED)
+        pin.framesForwardKinematics(self.model, self.data, config)
+        to_base = self.data.oMf[self.base_frame].rotation.T
+        full = np.vstack([to_base @ full[:3], to_base @ full[3:]])
         out = np.zeros((6, self.chain.n))
         for joint in self.chain.joints:
             column = self.model.joints[self.model.getJointId(joint.name)].idx_v
@@ -235,8 +243,6 @@ def test_forward_kinematics_matches_pinocchio(subject):
 
 
 def test_jacobian_matches_pinocchio(subject):
-    if not subject.chain.base_is_root:
-        pytest.skip("the Jacobian is taken in the root frame")
     worst = max(np.abs(geometric_jacobian(subject.chain, q) - subject.jacobian(q)).max()
                 for q in subject.configurations())
     assert worst < TOL
@@ -301,16 +307,16 @@ def test_dh_self_check_is_tiny(subject):
 
 
 def test_jacobian_json_matches_pinocchio(subject):
-    if not subject.chain.base_is_root:
-        pytest.skip("the jacobian command works in the root frame")
     for q in subject.configurations(seed=5)[:4]:
         args = [str(subject.path)] + (["--tip", subject.tip] if subject.tip else [])
+        args += ["--base", subject.base] if subject.base else []
         result = run_urdftool("jacobian", *args, "--q=" + ",".join(repr(float(v)) for v in q),
                               "--format", "json")
         assert result.code == 0, result.err
         data = json.loads(result.out)
         assert list(data) == ["tip", "q", "joints", "frame", "reference_point", "J"]
-        assert data["frame"] == "world" and data["reference_point"] == "tip_origin"
+        frame = "world" if subject.chain.base_is_root else subject.chain.base
+        assert data["frame"] == frame and data["reference_point"] == "tip_origin"
         assert data["tip"] == subject.chain.tip
         assert data["joints"] == subject.chain.variable_names
         assert data["q"] == [float(v) for v in q]  # repr round trip: full precision

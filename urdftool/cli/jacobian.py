@@ -1,5 +1,5 @@
-"""`urdftool jacobian FILE [--tip L] [--q v1,v2,...] [--symbolic]`: the geometric Jacobian of
-the tip link's origin in the root link's frame, at a configuration (with singular values,
+"""`urdftool jacobian FILE [--base L] [--tip L] [--q v1,v2,...] [--symbolic]`: the geometric
+Jacobian of the tip link's origin in the base link's frame (default: the root link), at a configuration (with singular values,
 manipulability and condition number) or as sympy expressions."""
 
 from __future__ import annotations
@@ -47,7 +47,8 @@ def render_numeric_text(chain, q, jac, tip_pose, analysis, warnings, tolerance) 
 
     console = stdout_console()
     console.print(f"[bold]{chain.robot or 'robot'}[/]: geometric Jacobian of the origin of "
-                  f"'{chain.tip}' in the frame of '{chain.base}' (world)")
+                  f"'{chain.tip}' in the frame of '{chain.base}'"
+                  + (" (world)" if chain.base_is_root else ""))
     config = Table(title="configuration", title_justify="left")
     for header in ("", "joint", "type", "q", "limits"):
         config.add_column(header)
@@ -110,6 +111,9 @@ def run_symbolic(chain, fmt: str, simplify: str) -> None:
 
 @click.command("jacobian")
 @click.argument("inputs", nargs=-1, required=True, metavar="FILE [NAME:=VALUE...]")
+@click.option("--base", metavar="LINK",
+              help="First link of the chain; the Jacobian is expressed in its frame "
+                   "(default: the root).")
 @click.option("--tip", metavar="LINK",
               help="The link whose origin is the reference point (default: the single leaf).")
 @click.option("--q", "q_text", metavar="V1,V2,...|NAME=V,...|mid",
@@ -125,8 +129,8 @@ def run_symbolic(chain, fmt: str, simplify: str) -> None:
               help="Warn of a singularity when smallest/largest singular value is below this.")
 @format_option("text", "json", "latex", "numpy")
 @package_option
-def command(inputs, tip, q_text, symbolic, simplify, tolerance, fmt, packages):
-    """Geometric Jacobian of the tip origin in the root link's frame (rows vx vy vz wx wy wz,
+def command(inputs, base, tip, q_text, symbolic, simplify, tolerance, fmt, packages):
+    """Geometric Jacobian of the tip origin in the base link's frame (rows vx vy vz wx wy wz,
     one column per joint variable), with singular values, manipulability and condition number;
     or, with --symbolic, as simplified expressions (text, LaTeX, NumPy code)."""
     from urdftool.errors import ToolError
@@ -140,7 +144,7 @@ def command(inputs, tip, q_text, symbolic, simplify, tolerance, fmt, packages):
     if not (tolerance >= 0 and math.isfinite(tolerance)):
         raise ToolError("--tolerance must be a finite number >= 0")
     robot = load_robot(paths[0], packages, xacro_args)
-    chain = extract_chain(robot, None, tip)
+    chain = extract_chain(robot, base, tip)
     if symbolic:
         if q_text is not None:
             raise ToolError("--symbolic gives expressions in q1..qn: leave out --q")
@@ -157,7 +161,7 @@ def command(inputs, tip, q_text, symbolic, simplify, tolerance, fmt, packages):
         return
     if fmt == "json":
         data = {"tip": chain.tip, "q": [float(v) for v in q], "joints": chain.variable_names,
-                "frame": "world", "reference_point": "tip_origin",
+                "frame": "world" if chain.base_is_root else chain.base, "reference_point": "tip_origin",
                 "J": [[float(v) for v in row] for row in jac]}
         click.echo(json.dumps(data, indent=2))
     else:
