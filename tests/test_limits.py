@@ -111,8 +111,6 @@ def test_cli_bad_values_show_dashes_not_tracebacks(write):
 
 def test_open_manipulator_gripper_violation():
     path = OPEN_MANIPULATOR / "published" / "open_manipulator.urdf.xacro"
-    if not path.exists():
-        pytest.skip("robots/open_manipulator not transcribed yet")
     package = f"open_manipulator_support_description={OPEN_MANIPULATOR / 'corrected'}"
     result = run_urdftool("limits", "-P", package, path)
     assert result.code == 1, result.err

@@ -5,8 +5,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import pytest
-
 from urdftool.check import CheckOptions, check_file
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -75,8 +73,6 @@ def test_bad_colours_are_left_to_schema(write):
 
 def test_seed_robots_material_findings():
     smartcar = ROOT / "robots" / "smartcar" / "published" / "smartcar.urdf"
-    if not smartcar.exists():
-        pytest.skip("robots/smartcar not transcribed yet")
     # every wheel redefines 'black' with the same colour: legal, no finding
     report = check_file(smartcar, CheckOptions(select=["material"]))
     assert report.diagnostics == []

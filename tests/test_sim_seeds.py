@@ -17,23 +17,17 @@ from urdftool.sim import SimOptions, simulate
 pytest.importorskip("pybullet")
 
 
-def _present(*parts: str) -> bool:
-    return (ROBOTS.joinpath(*parts)).exists()
-
-
 @pytest.fixture(scope="module")
 def corrected():
     folders = sorted(str(p) for p in ROBOTS.glob("*/corrected"))
-    if not folders:
-        pytest.skip("no transcribed robots")
+    assert folders, "robots/*/corrected is missing"
     return simulate(folders, SimOptions(jobs=2))
 
 
 @pytest.fixture(scope="module")
 def published():
     folders = sorted(str(p) for p in ROBOTS.glob("*/published"))
-    if not folders:
-        pytest.skip("no transcribed robots")
+    assert folders, "robots/*/published is missing"
     results = simulate(folders, SimOptions(jobs=2))
     repaired = simulate(folders, SimOptions(jobs=2, repaired=True))
     return ({r.path.split("robots/", 1)[1]: r for r in results},
@@ -132,8 +126,6 @@ def test_published_smartcar_xacro_with_prefixes_added_does_not_settle(tmp_path):
     # tilted), so the car rests on misplaced wheels and slowly tips; the 1 kg·m² inertias on
     # 0.1 kg wheels make that motion so slow that it is still going after 1 s (in 3 s it
     # tilts by some 37 degrees). With the origins fixed and the inertias kept, it stands.
-    if not _present("smartcar", "published", "urdf", "smartcar_body.urdf.xacro"):
-        pytest.skip("robots/smartcar not transcribed")
     copy = tmp_path / "smartcar"
     shutil.copytree(ROBOTS / "smartcar" / "published", copy)
     for path in [copy / "smartcar.urdf.xacro", *(copy / "urdf").glob("*.xacro")]:
