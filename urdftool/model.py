@@ -1,6 +1,9 @@
 """The robot model: typed, immutable records of links, joints and the rest, built once from a
 parsed document and read by every rule and command. Every record keeps where it was written.
 
+The records are ``NamedTuple``s (cheap to define: ``urdftool check`` starts in a pre-commit hook,
+and cheap to build: one ``Loc`` per element); ``Robot`` is a plain class holding its indexes.
+
 Values that do not parse are kept as ``None`` here (the ``schema`` rules report them), so that
 building a model never fails on bad input.
 """
@@ -8,8 +11,7 @@ building a model never fails on bad input.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 if TYPE_CHECKING:  # pragma: no cover
     from lxml import etree
@@ -19,8 +21,7 @@ if TYPE_CHECKING:  # pragma: no cover
 Vec3 = tuple[float, float, float]
 
 
-@dataclass(frozen=True)
-class Loc:
+class Loc(NamedTuple):
     """Where something was written: the user's file and 1-based line/column.
 
     ``via`` lists the macro call sites ("file:line") that produced the element, innermost first.
@@ -33,8 +34,7 @@ class Loc:
     via: tuple[str, ...] = ()
 
 
-@dataclass(frozen=True)
-class Pose:
+class Pose(NamedTuple):
     xyz: Vec3 = (0.0, 0.0, 0.0)
     rpy: Vec3 = (0.0, 0.0, 0.0)
 
@@ -43,8 +43,7 @@ class Pose:
         return self.xyz == (0.0, 0.0, 0.0) and self.rpy == (0.0, 0.0, 0.0)
 
 
-@dataclass(frozen=True)
-class Geometry:
+class Geometry(NamedTuple):
     """One shape. ``kind`` is box, cylinder, sphere, mesh, capsule, or None when missing."""
 
     kind: str | None
@@ -56,8 +55,7 @@ class Geometry:
     loc: Loc | None = None
 
 
-@dataclass(frozen=True)
-class Shape:
+class Shape(NamedTuple):
     """A visual or a collision: a geometry placed in the link frame."""
 
     role: str  # "visual" or "collision"
@@ -68,8 +66,7 @@ class Shape:
     loc: Loc | None = None
 
 
-@dataclass(frozen=True)
-class Inertial:
+class Inertial(NamedTuple):
     origin: Pose
     mass: float | None
     ixx: float | None
@@ -92,8 +89,7 @@ class Inertial:
         return ((ixx, ixy, ixz), (ixy, iyy, iyz), (ixz, iyz, izz))
 
 
-@dataclass(frozen=True)
-class Link:
+class Link(NamedTuple):
     name: str | None
     inertial: Inertial | None
     visuals: tuple[Shape, ...]
@@ -105,8 +101,7 @@ class Link:
         return self.visuals + self.collisions
 
 
-@dataclass(frozen=True)
-class Limit:
+class Limit(NamedTuple):
     lower: float | None
     upper: float | None
     effort: float | None
@@ -114,23 +109,20 @@ class Limit:
     loc: Loc | None = None
 
 
-@dataclass(frozen=True)
-class Mimic:
+class Mimic(NamedTuple):
     joint: str | None
     multiplier: float | None = 1.0
     offset: float | None = 0.0
     loc: Loc | None = None
 
 
-@dataclass(frozen=True)
-class Dynamics:
+class Dynamics(NamedTuple):
     damping: float | None = 0.0
     friction: float | None = 0.0
     loc: Loc | None = None
 
 
-@dataclass(frozen=True)
-class SafetyController:
+class SafetyController(NamedTuple):
     soft_lower_limit: float | None
     soft_upper_limit: float | None
     k_position: float | None
@@ -138,8 +130,7 @@ class SafetyController:
     loc: Loc | None = None
 
 
-@dataclass(frozen=True)
-class Calibration:
+class Calibration(NamedTuple):
     rising: float | None
     falling: float | None
     loc: Loc | None = None
@@ -149,8 +140,7 @@ MOVING_JOINT_TYPES = ("revolute", "continuous", "prismatic", "floating", "planar
 JOINT_TYPES = MOVING_JOINT_TYPES + ("fixed",)
 
 
-@dataclass(frozen=True)
-class Joint:
+class Joint(NamedTuple):
     name: str | None
     type: str | None
     parent: str | None
@@ -173,33 +163,34 @@ class Joint:
         return self.axis if self.axis is not None else (1.0, 0.0, 0.0)
 
 
-@dataclass(frozen=True)
-class Material:
+class Material(NamedTuple):
     name: str | None
     rgba: tuple[float, ...] | None
     texture: str | None
     loc: Loc | None = None
 
 
-@dataclass(frozen=True)
 class Robot:
     """A robot as written. ``links`` and ``joints`` keep every element in document order,
     duplicates included; ``link``/``joint`` look one up by name (first definition wins)."""
 
-    name: str | None
-    links: tuple[Link, ...]
-    joints: tuple[Joint, ...]
-    materials: tuple[Material, ...]  # top-level and inline material definitions
-    source: Source
-    root: Any = None  # the lxml root element of the (expanded) document, or None
-    _link_index: dict[str, Link] = field(default_factory=dict, repr=False, compare=False)
-    _joint_index: dict[str, Joint] = field(default_factory=dict, repr=False, compare=False)
+    __slots__ = ("_joint_index", "_link_index", "joints", "links", "materials", "name", "root",
+                 "source")
 
-    def __post_init__(self):
-        for link in self.links:
+    def __init__(self, name: str | None, links: tuple[Link, ...], joints: tuple[Joint, ...],
+                 materials: tuple[Material, ...], source: Source, root: Any = None):
+        self.name = name
+        self.links = links
+        self.joints = joints
+        self.materials = materials  # top-level and inline material definitions
+        self.source = source
+        self.root = root  # the lxml root element of the (expanded) document, or None
+        self._link_index: dict[str, Link] = {}
+        self._joint_index: dict[str, Joint] = {}
+        for link in links:
             if link.name is not None:
                 self._link_index.setdefault(link.name, link)
-        for joint in self.joints:
+        for joint in joints:
             if joint.name is not None:
                 self._joint_index.setdefault(joint.name, joint)
 

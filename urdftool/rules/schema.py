@@ -21,7 +21,6 @@ from __future__ import annotations
 import json
 import re
 from collections import Counter
-from dataclasses import replace
 from pathlib import Path
 
 from urdftool.model import Loc
@@ -202,7 +201,7 @@ class _Walk:
         line = lines[loc.line - 1]
         start = (loc.column or 1) - 1
         match = re.compile(r"(?<![\w:.-])" + re.escape(name) + r"\s*=").search(line, start)
-        return replace(loc, column=match.start() + 1) if match else loc
+        return loc._replace(column=match.start() + 1) if match else loc
 
     # -- entry ----------------------------------------------------------------------------------
 
