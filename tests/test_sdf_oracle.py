@@ -294,3 +294,48 @@ def test_own_sdf_against_pybullet(name, tmp_path):
         worst = compare_model(path, model, tmp_path, seed=7)
         for key in ("position", "angle", "mass", "com", "inertia"):
             assert worst[key] < TOLERANCE, f"{name}/{model}: {key} error {worst[key]:.3g}"
+
+
+BALL_PENDULUM = """<sdf version="1.7"><model name="pendulum">
+  <link name="a"><inertial><mass>1</mass><inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz>
+    </inertia></inertial></link>
+  <link name="b"><pose>0 0 0.5 0 0 0</pose>
+    <inertial><pose>0 0 0.3 0 0 0</pose><mass>2</mass>
+      <inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz></inertia></inertial></link>
+  <joint name="j" type="ball"><parent>a</parent><child>b</child></joint>
+</model></sdf>
+"""
+
+
+def test_ball_joint_links_are_massless_in_pybullet(tmp_path):
+    """A ball joint becomes three joints through two links that must add no mass: PyBullet
+    gives a link without <inertial> 1 kg and 1 kg·m², which freezes this pendulum."""
+    sdf = tmp_path / "pendulum.sdf"
+    sdf.write_text(BALL_PENDULUM)
+    urdf = tmp_path / "pendulum.urdf"
+    assert run_urdftool("convert", sdf, "-o", urdf).code == 0
+    checked = run_urdftool("check", "--format", "json", "--select", "inertia", sdf)
+    assert checked.code == 0 and '"diagnostics": []' in checked.out
+    client = pybullet.connect(pybullet.DIRECT)
+    try:
+        pybullet.setGravity(0, 0, -9.81, physicsClientId=client)
+        body = pybullet.loadURDF(str(urdf), useFixedBase=True, physicsClientId=client,
+                                 flags=pybullet.URDF_USE_INERTIA_FROM_FILE)
+        masses = [pybullet.getDynamicsInfo(body, i, physicsClientId=client)[0] for i in range(3)]
+        assert masses == [0.0, 0.0, 2.0]
+        for i in range(3):
+            pybullet.setJointMotorControl2(body, i, pybullet.VELOCITY_CONTROL, force=0,
+                                           physicsClientId=client)
+        pybullet.resetJointState(body, 0, 0.3, physicsClientId=client)
+        steps, dt = 24, 1 / 240
+        for _ in range(steps):
+            pybullet.stepSimulation(physicsClientId=client)
+        angle = pybullet.getJointState(body, 0, physicsClientId=client)[0]
+    finally:
+        pybullet.disconnect(client)
+    # closed form: a rigid pendulum about the x axis, m = 2, d = 0.3, I = 0.01 + m d²
+    theta, omega, h = 0.3, 0.0, dt / 100
+    for _ in range(steps * 100):
+        omega += 2 * 9.81 * 0.3 * np.sin(theta) / (0.01 + 2 * 0.09) * h
+        theta += omega * h
+    assert abs((angle - 0.3) - (theta - 0.3)) < 0.1 * (theta - 0.3)

@@ -420,8 +420,15 @@ class Builder:
         return -2 * math.pi / thread if thread else 0.0
 
     def extra_link(self, key: str, sdf_element, frame: Transform) -> str:
+        """A link between the single joints of a ball/universal/screw joint. It has no mass
+        in SDF, and says so: a URDF link without <inertial> gets 1 kg in PyBullet and is
+        dropped by Gazebo together with what hangs from it."""
         name = self.link_name(key)
-        self.sub(self.root, "link", sdf_element, name=name)
+        link = self.sub(self.root, "link", sdf_element, name=name)
+        inertial = self.sub(link, "inertial", sdf_element)
+        self.sub(inertial, "mass", sdf_element, value=fmt(0.0))
+        self.sub(inertial, "inertia", sdf_element, ixx="0.0", ixy="0.0", ixz="0.0", iyy="0.0",
+                 iyz="0.0", izz="0.0")
         self.frame_of[name] = frame
         return name
 
