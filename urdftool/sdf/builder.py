@@ -29,6 +29,8 @@ from urdftool.sdf.transforms import IDENTITY, Transform
 
 UNBOUNDED = 1e16  # SDF's own "no limit" (the default of <lower>/<upper> up to 1.9)
 MOVING = ("revolute", "continuous", "prismatic")
+GAZEBO_MASSLESS = ("for Gazebo, give the links between the joints a small <inertial>: its URDF "
+                   "reader drops moving links of zero mass")
 
 
 class ModelChoiceError(Exception):
@@ -376,7 +378,7 @@ class Builder:
                         f"{joint.type} joint '{name}' has no URDF equivalent: written as two "
                         f"revolute joints '{self.joint_name(joint.key)}' and "
                         f"'{self.joint_name(joint.key, '__axis2')}' through the massless link "
-                        f"'{middle}'", element)
+                        f"'{middle}'", element, hint=GAZEBO_MASSLESS)
         elif joint.type == "ball":
             first = self.extra_link(f"{joint.key}__link1", element, frame)
             second = self.extra_link(f"{joint.key}__link2", element, frame)
@@ -391,7 +393,7 @@ class Builder:
                         f"ball joint '{name}' has no URDF equivalent: written as three "
                         f"continuous joints about x, y, z of the joint frame ({', '.join(names)}) "
                         "through two massless links; the chain has a singularity where the "
-                        "ball has none", element)
+                        "ball has none", element, hint=GAZEBO_MASSLESS)
         elif joint.type == "screw":
             middle = self.extra_link(f"{joint.key}__link", element, frame)
             leader = self.joint_name(joint.key)
@@ -410,7 +412,8 @@ class Builder:
             self.report("sdf.unsupported-joint",
                         f"screw joint '{name}' has no URDF equivalent: written as revolute "
                         f"'{leader}' and prismatic '{follower}' mimicking it "
-                        f"({multiplier:g} m/rad) through the massless link '{middle}'", element)
+                        f"({multiplier:g} m/rad) through the massless link '{middle}'", element,
+                        hint=GAZEBO_MASSLESS)
 
     def screw_pitch(self, joint: JointInfo) -> float:
         element = joint.entity.element
@@ -421,8 +424,9 @@ class Builder:
 
     def extra_link(self, key: str, sdf_element, frame: Transform) -> str:
         """A link between the single joints of a ball/universal/screw joint. It has no mass
-        in SDF, and says so: a URDF link without <inertial> gets 1 kg in PyBullet and is
-        dropped by Gazebo together with what hangs from it."""
+        in SDF, and says so with a zero <inertial>: a URDF link without one gets 1 kg and
+        1 kg·m² in PyBullet. (Gazebo's URDF reader drops moving links of zero mass either way:
+        the warning's hint says so.)"""
         name = self.link_name(key)
         link = self.sub(self.root, "link", sdf_element, name=name)
         inertial = self.sub(link, "inertial", sdf_element)
