@@ -1,7 +1,10 @@
-"""The ``check`` pipeline: source -> model -> rules -> report, one file at a time."""
+"""The ``check`` pipeline: source -> model -> rules -> report, one file at a time; several files
+in a pool of forked worker processes (``CheckOptions.jobs``), reports in the order of the files."""
 
 from __future__ import annotations
 
+import os
+import pickle
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -20,6 +23,7 @@ class CheckOptions:
     ignore: list[str] = field(default_factory=list)
     config: Config = field(default_factory=Config)
     debug: bool = False
+    jobs: int | None = None  # worker processes for several files (None: the CPUs available)
 
 
 def _diagnostic(rule_id: str, severity: str, finding: Finding, default_path: str) -> Diagnostic:
@@ -64,9 +68,78 @@ def check_file(path: Path | str, options: CheckOptions | None = None) -> FileRep
     return FileReport(source.path, robot.name, diagnostics, source.texts)
 
 
+def available_cpus() -> int:
+    """The CPUs this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
 def check_paths(paths: list[str], options: CheckOptions | None = None) -> Report:
-    """Check every robot file under ``paths``. Raises ToolError when there is nothing to check."""
+    """Check every robot file under ``paths``. Raises ToolError when there is nothing to check,
+    and the error of the first file (in order) that cannot be checked at all."""
+    options = options or CheckOptions()
     files = discover(paths)
     if not files:
         raise ToolError("no robot files (*.urdf, *.xacro, *.sdf) found in " + ", ".join(paths))
-    return Report([check_file(f, options) for f in files])
+    jobs = min(options.jobs or available_cpus(), len(files))
+    if jobs <= 1 or options.debug or not hasattr(os, "fork"):  # --debug: tracebacks in-process
+        return Report([check_file(f, options) for f in files])
+    return Report(_check_in_workers(files, options, jobs))
+
+
+# -- the worker pool --------------------------------------------------------------------------
+
+
+def _worker(path, options: CheckOptions) -> tuple[bool, object]:
+    """(True, FileReport) or (False, the exception), so that one file's error comes back as
+    that file's result and the pool goes on with the others."""
+    try:
+        return True, check_file(path, options)
+    except Exception as exc:  # noqa: BLE001 - re-raised in the parent, in file order
+        try:
+            pickle.dumps(exc)
+        except Exception:  # noqa: BLE001 - an exception that cannot travel: its text does
+            exc = RuntimeError(f"{type(exc).__name__}: {exc}")
+        return False, exc
+
+
+def _check_in_workers(files: list, options: CheckOptions, jobs: int) -> list[FileReport]:
+    """``check_file`` of every file in ``jobs`` forked processes. A worker that dies (a crash
+    in a parser, the OOM killer) breaks the pool: the files it left unchecked are then checked
+    one process each, so that only the file that kills its process is reported (ToolError)."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures.process import BrokenProcessPool
+
+    context = multiprocessing.get_context("fork")
+    results: list[tuple[bool, object] | None] = [None] * len(files)
+    with ProcessPoolExecutor(jobs, mp_context=context) as pool:
+        futures = [pool.submit(_worker, f, options) for f in files]
+        for index, future in enumerate(futures):
+            try:
+                results[index] = future.result()
+            except BrokenProcessPool:
+                pass
+    for index, path in enumerate(files):
+        if results[index] is None:
+            results[index] = _check_alone(path, options, context)
+    reports = []
+    for ok, value in results:  # type: ignore[misc]
+        if not ok:
+            raise value  # type: ignore[misc]
+        reports.append(value)
+    return reports
+
+
+def _check_alone(path, options: CheckOptions, context) -> tuple[bool, object]:
+    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures.process import BrokenProcessPool
+
+    with ProcessPoolExecutor(1, mp_context=context) as pool:
+        try:
+            return pool.submit(_worker, path, options).result()
+        except BrokenProcessPool:
+            return False, ToolError(f"{path}: the check of this file crashed its worker "
+                                    "process (run with --jobs 1 --debug to see why)")

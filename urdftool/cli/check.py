@@ -33,9 +33,12 @@ from urdftool.cli import (
               help="SDF input: the model of a world to check (default: the first).")
 @click.option("--model-path", "model_paths", multiple=True, metavar="DIR",
               help="SDF input: where model:// includes and meshes are found. Repeatable.")
+@click.option("-j", "--jobs", type=click.IntRange(min=1), metavar="N",
+              help="Check files in N processes (default: the CPUs available; 1: in this "
+                   "process).")
 @click.pass_context
 def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, in_place, sdf_model,
-            model_paths):
+            model_paths, jobs):
     """Lint robot descriptions (*.urdf, *.xacro, *.urdf.xacro, *.sdf); all findings in one pass.
 
     Exit code 0: no errors (with --strict: no warnings either); 1: findings; 2: could not check.
@@ -56,6 +59,7 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, in_
                            config, ctx.obj.get("debug", False))
     options.load.sdf_model = sdf_model
     options.load.sdf_model_paths = list(model_paths)
+    options.jobs = jobs
     if in_place and not fix:
         raise ToolError("--in-place goes with --fix")
     if fix:

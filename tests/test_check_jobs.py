@@ -1,0 +1,128 @@
+"""`check --jobs N`: several files in forked worker processes give the report of one process,
+in the same order; a file that cannot be checked is reported as without workers."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+
+import pytest
+
+from tests.conftest import ROBOTS, pybullet_urdfs, run_urdftool
+from urdftool import check
+from urdftool.errors import ToolError
+
+GOOD = """<robot name="good">
+  <link name="base"><inertial><mass value="1"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+</robot>
+"""
+
+
+@pytest.fixture
+def many(tmp_path):
+    """The seed robots (URDF and xacro, published and corrected) and a dozen pybullet ones."""
+    root = tmp_path / "many"
+    shutil.copytree(ROBOTS, root / "robots")
+    for index, path in enumerate(pybullet_urdfs()[:40:3]):
+        shutil.copy(path, root / f"pybullet_{index:02d}_{path.name}")
+    return root
+
+
+@pytest.mark.parametrize("fmt", ["json", "text", "sarif"])
+def test_jobs_give_the_report_of_one_process(many, fmt):
+    one = run_urdftool("check", "--format", fmt, "--jobs", "1", many)
+    two = run_urdftool("check", "--format", fmt, "--jobs", "2", many)
+    assert one.code == two.code == 1  # the published seeds have errors
+    assert one.out == two.out and one.err == two.err == ""
+    if fmt == "json":
+        files = [f["path"] for f in json.loads(one.out)["files"]]
+        assert len(files) > 20 and files == sorted(files)
+
+
+def test_untrusted_xacro_expansion_in_workers(many):
+    one = run_urdftool("check", "--untrusted", "--format", "json", "--jobs", "1", many / "robots")
+    two = run_urdftool("check", "--untrusted", "--format", "json", "--jobs", "2", many / "robots")
+    assert one.code == two.code == 1
+    assert one.out == two.out
+    report = json.loads(two.out)
+    xacro_files = [f for f in report["files"]
+                   if f["path"].endswith(".xacro") and "/corrected/" in f["path"]]
+    assert len(xacro_files) == 4 and all(f["robot"] for f in xacro_files)  # expanded
+
+
+def test_exit_codes_with_workers(tmp_path, write):
+    for index in range(3):
+        write(GOOD.replace("good", f"good{index}"), f"ok/r{index}.urdf")
+    assert run_urdftool("check", "--jobs", "2", tmp_path / "ok").code == 0
+    write(GOOD.replace('value="1"', 'value="-1"'), "ok/zz_bad_mass.urdf")
+    assert run_urdftool("check", "--jobs", "2", tmp_path / "ok").code == 1
+    assert run_urdftool("check", "--jobs", "0", tmp_path / "ok").code == 2
+
+
+@pytest.mark.parametrize("jobs", ["1", "2", "3"])
+def test_a_file_that_cannot_be_read_among_good_ones(tmp_path, write, jobs):
+    for index in range(4):
+        write(GOOD, f"dir/r{index}.urdf")
+    (tmp_path / "dir" / "r2_binary.urdf").write_bytes(b"\x00\x01\x02\x89PNG\x00\x00binary")
+    (tmp_path / "dir" / "r3_binary.urdf").write_bytes(b"\x00\x01\x02\x89PNG\x00\x00binary")
+    result = run_urdftool("check", "--format", "json", "--jobs", jobs, tmp_path / "dir")
+    assert result.code == 2 and "Traceback" not in result.err
+    # one line, about the first file (in order) that could not be read
+    assert result.err.strip().splitlines() == [
+        f"urdftool: {tmp_path / 'dir' / 'r2_binary.urdf'}: binary file, not an XML robot description"]
+
+
+def test_a_crashing_worker_is_reported_for_its_file_only(tmp_path, write, monkeypatch):
+    paths = [write(GOOD, f"r{index}.urdf") for index in range(5)]
+    real = check.check_file
+
+    def crash_on_r2(path, options=None):
+        if str(path).endswith("r2.urdf"):
+            os._exit(3)  # a parser crashing the process (the pool cannot go on)
+        return real(path, options)
+
+    monkeypatch.setattr(check, "check_file", crash_on_r2)
+    options = check.CheckOptions(jobs=2)
+    with pytest.raises(ToolError, match=r"r2\.urdf: the check of this file crashed"):
+        check.check_paths([str(tmp_path)], options)
+    # the other files are checked in spite of the crash
+    reports = check._check_in_workers([p for p in paths if p.name != "r2.urdf"], options, 2)
+    assert [r.robot for r in reports] == ["good"] * 4
+    monkeypatch.setattr(check, "check_file", real)
+    assert [r.path for r in check.check_paths([str(tmp_path)], options).files] == \
+        [str(p) for p in paths]
+
+
+def test_an_unexpected_error_in_a_worker_is_reported_as_in_process(tmp_path, write, monkeypatch):
+    for index in range(3):
+        write(GOOD, f"r{index}.urdf")
+
+    class Unpicklable(Exception):
+        def __reduce__(self):
+            raise TypeError("no")
+
+    def fail(path, options=None):
+        raise Unpicklable("boom")
+
+    monkeypatch.setattr(check, "check_file", fail)
+    for jobs in ("1", "2"):
+        result = run_urdftool("check", "--jobs", jobs, tmp_path)
+        assert result.code == 2
+        assert "internal error" in result.err and "boom" in result.err
+        assert "Unpicklable" in result.err
+
+
+def test_default_jobs_are_the_cpus_available(monkeypatch, tmp_path, write):
+    assert check.available_cpus() == len(os.sched_getaffinity(0))
+    for index in range(3):
+        write(GOOD, f"r{index}.urdf")
+    seen = []
+    monkeypatch.setattr(check, "available_cpus", lambda: 2)
+    monkeypatch.setattr(check, "_check_in_workers",
+                        lambda files, options, jobs: seen.append(jobs) or [])
+    check.check_paths([str(tmp_path)])
+    check.check_paths([str(tmp_path / "r0.urdf")])  # one file: in-process
+    check.check_paths([str(tmp_path)], check.CheckOptions(jobs=1))
+    assert seen == [2]
