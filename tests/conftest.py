@@ -82,3 +82,13 @@ def _same_mode_under_ci(monkeypatch):
     """The CI variable makes --untrusted the default (issue 8); the suite runs the same on a CI
     runner as on a laptop, and tests that care say --trusted/--untrusted or set CI."""
     monkeypatch.delenv("CI", raising=False)
+
+
+# -- mesh cache (issue 2) -------------------------------------------------------------------
+@pytest.fixture(autouse=True)
+def _own_mesh_cache(monkeypatch, tmp_path_factory):
+    """Every test starts from its own empty persistent cache (tests stay independent), and
+    with the cache on (``--no-cache`` in one test does not leak into the next)."""
+    monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path_factory.mktemp("urdftool-cache")))
+    monkeypatch.setattr("urdftool.cache.ENABLED", True)
+# -- end mesh cache -------------------------------------------------------------------------

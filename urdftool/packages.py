@@ -1,7 +1,9 @@
 """Package resolution: ``package://NAME/...`` and ``$(find NAME)``.
 
 Packages come from, in order: ``-P NAME=DIR`` options, the nearest ``package.xml`` above the
-file (and its sibling packages), ``ROS_PACKAGE_PATH`` and ``AMENT_PREFIX_PATH``.
+file (and its sibling packages), ``ROS_PACKAGE_PATH`` and ``AMENT_PREFIX_PATH``; a
+``package://NAME/...`` URI none of them knows is then looked for as a directory NAME above the
+referring file or beside one of its ancestors.
 """
 
 from __future__ import annotations
@@ -30,6 +32,8 @@ class PackageResolver:
         self.start = start
         self.environ = os.environ if environ is None else environ
         self._found: dict[str, Path] | None = None
+        self._uris: dict[tuple[str, Path], Path | None] = {}  # resolve_uri, memoised
+        self._directories: dict[tuple[str, Path], Path | None] = {}  # by_directory, memoised
 
     def _discover(self) -> dict[str, Path]:
         found: dict[str, Path] = {}
@@ -77,6 +81,24 @@ class PackageResolver:
             self._found = self._discover()
         return self._found.get(name)
 
+    def by_directory(self, name: str, start: Path) -> Path | None:
+        """Package ``name`` as a directory NAME above ``start`` or beside one of its ancestors
+        (how pinocchio's package_dirs and ROS_PACKAGE_PATH trees are laid out, e.g.
+        example-robot-data, whose package.xml names it differently); ``urdftool`` is
+        urdftool's own example meshes (used in the rule docs)."""
+        if not name:
+            return None
+        if name == "urdftool":
+            return Path(__file__).resolve().parent
+        key = (name, start)
+        if key not in self._directories:
+            directory = start.resolve()
+            self._directories[key] = next(
+                (ancestor if ancestor.name == name else ancestor / name
+                 for ancestor in (directory, *directory.parents)
+                 if ancestor.name == name or (ancestor / name).is_dir()), None)
+        return self._directories[key]
+
     def roots(self) -> list[Path]:
         """Every package directory known (the places an input may legitimately read from)."""
         if self._found is None:
@@ -84,11 +106,20 @@ class PackageResolver:
         return list(self.explicit.values()) + list(self._found.values())
 
     def resolve_uri(self, uri: str, base_dir: Path) -> Path | None:
-        """Resolve a mesh or resource URI to a local path; None when it cannot be resolved."""
+        """Resolve a mesh or resource URI to a local path; None when it cannot be resolved.
+        Relative paths and unknown packages are looked for from ``base_dir``, the directory of
+        the file that names them. Memoised (a robot names the same few directories hundreds
+        of times)."""
+        key = (uri, base_dir)
+        if key not in self._uris:
+            self._uris[key] = self._resolve_uri(uri, base_dir)
+        return self._uris[key]
+
+    def _resolve_uri(self, uri: str, base_dir: Path) -> Path | None:
         if uri.startswith("package://"):
             # package:///NAME/... (three slashes) is seen in the wild and read by ROS tools
             name, _, rest = uri[len("package://"):].lstrip("/").partition("/")
-            package = self.find(name)
+            package = self.find(name) or self.by_directory(name, base_dir)
             return package / rest if package is not None else None
         if uri.startswith("file://"):
             return Path(uri[len("file://"):])

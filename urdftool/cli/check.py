@@ -33,20 +33,25 @@ from urdftool.cli import (
               help="SDF input: the model of a world to check (default: the first).")
 @click.option("--model-path", "model_paths", multiple=True, metavar="DIR",
               help="SDF input: where model:// includes and meshes are found. Repeatable.")
+@click.option("--no-cache", is_flag=True,
+              help="Parse every mesh again: neither read nor write the mesh-summary cache "
+                   "($URDFTOOL_CACHE_DIR, else ~/.cache/urdftool).")
 @click.option("-j", "--jobs", type=click.IntRange(min=1), metavar="N",
               help="Check files in N processes (default: the CPUs available; 1: in this "
                    "process).")
 @click.pass_context
 def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, in_place, sdf_model,
-            model_paths, jobs):
+            model_paths, no_cache, jobs):
     """Lint robot descriptions (*.urdf, *.xacro, *.urdf.xacro, *.sdf); all findings in one pass.
 
     Exit code 0: no errors (with --strict: no warnings either); 1: findings; 2: could not check.
     """
+    from urdftool import cache
     from urdftool.check import CheckOptions, check_paths
     from urdftool.config import load_config
     from urdftool.errors import ToolError
 
+    cache.ENABLED = not no_cache
     paths, xacro_args = split_args(inputs)
     if not paths:
         raise ToolError("check needs at least one PATH")

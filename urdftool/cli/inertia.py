@@ -54,7 +54,10 @@ def _verdict(row: dict) -> str:
 @format_option("text", "json")
 @package_option
 @untrusted_options
-def command(inputs, link, density, fmt, packages):
+@click.option("--no-cache", is_flag=True,
+              help="Parse every mesh again: neither read nor write the mesh-summary cache "
+                   "($URDFTOOL_CACHE_DIR, else ~/.cache/urdftool).")
+def command(inputs, link, density, fmt, packages, no_cache):
     """Declared vs geometry-derived inertia per link, with a corrected <inertial> block for
     every link the inertia checks flag.
 
@@ -62,9 +65,11 @@ def command(inputs, link, density, fmt, packages):
     uniform density, the declared mass. Exit code 1 when an error is shown, 0 otherwise, 2 when
     the file cannot be read or the link does not exist.
     """
+    from urdftool import cache
     from urdftool.errors import ToolError
     from urdftool.physics.summary import inertia_data
 
+    cache.ENABLED = not no_cache
     paths, xacro_args = split_args(inputs)
     if len(paths) != 1:
         raise ToolError("inertia takes exactly one FILE")

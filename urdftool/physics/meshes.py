@@ -3,7 +3,9 @@ when a robot has meshes) and keep what the rules need: unit-density mass propert
 hull vertices, extents, watertightness.
 
 Each file is loaded once per process: ``load_mesh`` caches by resolved path (``LOADS`` counts
-the real loads, for tests and benchmarks). The cache holds small summaries, not the meshes.
+the real loads, for tests and benchmarks). The cache holds small summaries, not the meshes; they
+are also kept between runs in the persistent cache (``urdftool.cache``), so that a repeated
+``check`` parses no mesh at all.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ _UP_ROTATIONS = {b"Y": ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0)),
 
 LOADS = 0  # how many files were actually read (cache misses)
 _CACHE: dict[str, MeshInfo] = {}
+_TRIMESH: bool | None = None  # trimesh_available(), found once
 
 
 @dataclass(frozen=True)
@@ -63,11 +66,14 @@ def clear_cache() -> None:
 
 
 def trimesh_available() -> bool:
-    try:
-        import trimesh  # noqa: F401
-    except ImportError:
-        return False
-    return True
+    """Whether trimesh is installed (without importing it: a warm run takes every mesh from the
+    persistent cache and never needs it)."""
+    global _TRIMESH
+    if _TRIMESH is None:
+        from importlib.util import find_spec
+
+        _TRIMESH = find_spec("trimesh") is not None
+    return _TRIMESH
 
 
 def resolve(robot, geometry) -> Path | None:
@@ -81,38 +87,7 @@ def resolve(robot, geometry) -> Path | None:
         from urdftool.packages import PackageResolver
 
         resolver = PackageResolver(start=Path(robot.source.path))
-    uri = geometry.filename.strip()
-    path = resolver.resolve_uri(uri, base_dir)
-    if path is None and uri.startswith("package://"):
-        path = _package_by_directory(uri, base_dir)
-        roots = getattr(resolver, "confined_roots", None)
-        if path is not None and roots is not None:  # --untrusted: the package roots only
-            from urdftool.sandbox import REFUSED, inside
-
-            if not inside(path, roots):
-                resolved = path.resolve()
-                path = REFUSED / resolved.relative_to(resolved.anchor)
-    return path
-
-
-def _package_by_directory(uri: str, start: Path) -> Path | None:
-    """``package://NAME/...`` where NAME is a directory above the file or beside one of its
-    ancestors (how pinocchio's package_dirs and ROS_PACKAGE_PATH trees are laid out, e.g.
-    example-robot-data, whose package.xml names it differently)."""
-    name, _, rest = uri[len("package://"):].partition("/")
-    if not name:  # package:///path: tools that accept it read it as a path in some package
-        name, _, rest = rest.lstrip("/").partition("/")
-        if not name:
-            return None
-    if name == "urdftool":  # urdftool's own example meshes (used in the rule docs)
-        return Path(__file__).resolve().parent.parent / rest
-    directory = start.resolve()
-    for ancestor in (directory, *directory.parents):
-        if ancestor.name == name:
-            return ancestor / rest
-        if (ancestor / name).is_dir():
-            return ancestor / name / rest
-    return None
+    return resolver.resolve_uri(geometry.filename.strip(), base_dir)
 
 
 def load_mesh(path: Path | str, need_volume: bool = False) -> MeshInfo:
@@ -126,8 +101,69 @@ def load_mesh(path: Path | str, need_volume: bool = False) -> MeshInfo:
     key = str(Path(path).resolve())
     info = _CACHE.get(key)
     if info is None or (need_volume and not info.has_volume and info.ok):
-        info = _CACHE[key] = _load(Path(key), need_volume)
+        info = _CACHE[key] = _stored_or_load(Path(key), need_volume)
     return info
+
+
+def _stored_or_load(path: Path, need_volume: bool) -> MeshInfo:
+    """The summary from the persistent cache when it has a complete enough one, else loaded
+    (and stored)."""
+    from urdftool import cache
+
+    key = cache.stamp(path) if path.suffix.lower() in LOADABLE else None
+    if key is None:
+        return _load(path, need_volume)
+    stored = _decode(path, cache.read("mesh", key))
+    if stored is not None and (stored.has_volume or not need_volume or not stored.ok):
+        return stored
+    info = _load(path, need_volume)
+    cache.write("mesh", key, *_encode(info))
+    return info
+
+
+def _encode(info: MeshInfo) -> tuple[dict, object]:
+    """(JSON header, float64 hull vertices) of a summary, for ``urdftool.cache``."""
+    import numpy as np
+
+    up = next((axis.decode() for axis, rotation in _UP_ROTATIONS.items()
+               if rotation == info.up_rotation), None)
+    solid = None if info.solid is None else [
+        info.solid.volume, *info.solid.centroid, *(x for row in info.solid.second for x in row)]
+    header = {"error": info.error, "faces": info.faces, "lower": info.lower,
+              "upper": info.upper, "up": up, "has_volume": info.has_volume,
+              "watertight": info.watertight, "used_hull": info.used_hull, "solid": solid}
+    hull = np.zeros((0, 3)) if info.hull is None else info.hull
+    return header, hull
+
+
+def _floats(value, count: int) -> bool:
+    return isinstance(value, list) and len(value) == count and \
+        all(type(x) is float for x in value)
+
+
+def _decode(path: Path, stored) -> MeshInfo | None:
+    """The summary stored by ``_encode``; None unless every field has its type and shape (a
+    corrupt entry is never trusted)."""
+    if stored is None:
+        return None
+    header, values = stored
+    error, solid, up = header.get("error"), header.get("solid"), header.get("up")
+    flags = [header.get(k) for k in ("has_volume", "watertight", "used_hull")]
+    if not (error is None or isinstance(error, str)) or type(header.get("faces")) is not int \
+            or not all(type(f) is bool for f in flags) or (up is not None and up not in ("X", "Y")) \
+            or not _floats(header.get("lower"), 3) or not _floats(header.get("upper"), 3) \
+            or not (solid is None or _floats(solid, 13)):
+        return None
+    if error is not None:
+        return MeshInfo(str(path), error=error)
+    if values.size == 0 or values.size % 3:
+        return None
+    second = tuple(tuple(solid[4 + 3 * i:7 + 3 * i]) for i in range(3)) if solid else None
+    return MeshInfo(str(path), hull=values.reshape(-1, 3), lower=tuple(header["lower"]),
+                    upper=tuple(header["upper"]), faces=header["faces"],
+                    up_rotation=_UP_ROTATIONS[up.encode()] if up else None,
+                    has_volume=flags[0], watertight=flags[1], used_hull=flags[2],
+                    solid=Solid(solid[0], tuple(solid[1:4]), second) if solid else None)
 
 
 def _collada_frame(path: Path) -> tuple[float, Mat3 | None]:

@@ -1,0 +1,273 @@
+"""The persistent mesh-summary cache (``urdftool.cache``, issue 2): a warm run gives the cold
+run's findings without parsing a mesh; changed files are re-read; corrupt entries, unwritable
+cache directories and concurrent writers fall back to loading; ``--no-cache`` reads and writes
+nothing. Every test gets its own empty cache directory (tests/conftest.py)."""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.conftest import example_robot_urdfs, pybullet_urdfs, run_urdftool
+from urdftool import cache
+from urdftool.physics import links, meshes
+
+trimesh = pytest.importorskip("trimesh")
+
+
+def fresh_process():
+    """What a new ``urdftool`` process starts with: no summaries in memory."""
+    meshes.clear_cache()
+    links._last = None
+
+
+def check_json(*args) -> tuple[dict, int]:
+    """(JSON report, meshes parsed) of one ``check`` run in a fresh process state."""
+    fresh_process()
+    result = run_urdftool("check", "--format", "json", *map(str, args))
+    assert result.code in (0, 1), result.err
+    return json.loads(result.out), meshes.LOADS
+
+
+def entries() -> list[Path]:
+    return sorted((cache.directory() / "mesh").glob("*"))
+
+
+def box_robot(directory: Path, extents=(0.2, 0.1, 0.05), role="collision") -> Path:
+    """A robot whose one link is a box mesh with unit inertia (so its findings quote the mesh's
+    size)."""
+    trimesh.creation.box(extents=extents).export(directory / "box.stl")
+    path = directory / "robot.urdf"
+    path.write_text('<robot name="r"><link name="a"><inertial><mass value="2"/><inertia ixx="1" '
+                    'ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>'
+                    f'<{role}><geometry><mesh filename="box.stl"/></geometry></{role}></link>'
+                    '</robot>')
+    return path
+
+
+def messages(report: dict) -> list[str]:
+    return [d["message"] for f in report["files"] for d in f["diagnostics"]]
+
+
+def test_cache_location(monkeypatch, tmp_path):
+    monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path / "explicit"))
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert cache.directory() == tmp_path / "explicit"
+    monkeypatch.delenv("URDFTOOL_CACHE_DIR")
+    assert cache.directory() == tmp_path / "xdg" / "urdftool"
+    monkeypatch.delenv("XDG_CACHE_HOME")
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    assert cache.directory() == tmp_path / "home" / ".cache" / "urdftool"
+
+
+def corpus_robots() -> list[Path]:
+    """Real robots with DAE (with units and up axes), STL and OBJ meshes, visual-only meshes
+    and meshes whose volume is needed."""
+    names = {"talos_full_v2.urdf", "ur5_robot.urdf", "solo12.urdf", "kuka_iiwa/model.urdf",
+             "r2d2.urdf", "husky/husky.urdf", "pr2_gripper.urdf"}
+    robots = [p for p in example_robot_urdfs() + pybullet_urdfs()
+              if p.name in names or f"{p.parent.name}/{p.name}" in names]
+    assert len(robots) == len(names)
+    return robots
+
+
+def test_warm_run_parses_nothing_and_finds_the_same_on_real_robots():
+    robots = corpus_robots()
+    cold = [check_json(robot) for robot in robots]  # one file: checked in-process
+    # one entry per file (a file first met as a visual, then needed for its volume, is
+    # parsed twice)
+    assert sum(loads for _, loads in cold) >= len(entries()) > 50
+    warm = [check_json(robot) for robot in robots]
+    assert [loads for _, loads in warm] == [0] * len(robots)
+    assert [report for report, _ in warm] == [report for report, _ in cold]
+    assert sum(len(f["diagnostics"]) for r, _ in cold for f in r["files"]) > 10
+
+
+def test_warm_run_over_a_pool_of_workers(tmp_path, monkeypatch):
+    """Several files are checked in forked workers (which share the cache directory): count
+    the parses in a file, since LOADS only counts those of this process."""
+    log = tmp_path / "parses"
+    original = meshes._load
+
+    def logged(path, need_volume):
+        with open(log, "a") as handle:
+            handle.write(f"{path}\n")
+        return original(path, need_volume)
+
+    monkeypatch.setattr(meshes, "_load", logged)
+    robots = corpus_robots()
+    cold, _ = check_json(*robots)
+    parsed = log.read_text().splitlines()
+    assert len(parsed) >= len(set(parsed)) == len(entries()) > 50
+    stored = {entry: entry.read_bytes() for entry in entries()}
+    warm, _ = check_json(*robots)
+    assert warm == cold
+    assert log.read_text().splitlines() == parsed  # nothing parsed
+    assert {entry: entry.read_bytes() for entry in entries()} == stored  # nor written
+
+
+def test_a_changed_file_is_read_again(tmp_path):
+    path = box_robot(tmp_path)
+    first, loads = check_json(path)
+    assert loads == 1
+    assert check_json(path) == (first, 0)
+    # a different size: the new box's numbers, not the stored ones
+    box_robot(tmp_path, extents=(0.2, 0.3, 0.05))
+    second, loads = check_json(path)
+    assert loads == 1 and messages(second) != messages(first)
+    # same size, new mtime only: read again all the same
+    stat = os.stat(tmp_path / "box.stl")
+    os.utime(tmp_path / "box.stl", ns=(stat.st_atime_ns, stat.st_mtime_ns + 10**9))
+    assert check_json(path) == (second, 1)
+    assert check_json(path) == (second, 0)
+    assert len(entries()) == 1  # one entry per file: a change replaces it
+
+
+@pytest.mark.parametrize("damage", ["truncated", "extended", "garbage", "bad field",
+                                    "other file", "empty hull", "old format"])
+def test_a_corrupt_entry_is_never_trusted(tmp_path, damage):
+    path = box_robot(tmp_path)
+    expected, _ = check_json(path)
+    (entry,) = entries()
+    data = entry.read_bytes()
+    header, _, values = data.partition(b"\n")
+    stored = json.loads(header)
+    if damage == "truncated":
+        entry.write_bytes(data[:-5])
+    elif damage == "extended":
+        entry.write_bytes(data + b"\0" * 8)
+    elif damage == "garbage":
+        entry.write_bytes(b"\x93NUMPY\x01\x00" + data[:100])
+    elif damage == "bad field":
+        stored["data"]["lower"] = ["0", 0.0, 0.0]
+        entry.write_bytes(json.dumps(stored).encode() + b"\n" + values)
+    elif damage == "other file":
+        stored["key"]["path"] = str(tmp_path / "other.stl")
+        entry.write_bytes(json.dumps(stored).encode() + b"\n" + values)
+    elif damage == "empty hull":
+        stored["values"] = 0
+        entry.write_bytes(json.dumps(stored).encode() + b"\n")
+    else:
+        stored["key"]["format"] -= 1
+        entry.write_bytes(json.dumps(stored).encode() + b"\n" + values)
+    assert check_json(path) == (expected, 1)
+    assert check_json(path) == (expected, 0)  # and the entry was written again, whole
+
+
+def test_an_unusable_cache_directory_falls_back_to_loading(tmp_path, monkeypatch):
+    path = box_robot(tmp_path)
+    expected, _ = check_json(path, "--no-cache")
+    (tmp_path / "a-file").write_text("not a directory")
+    monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path / "a-file" / "cache"))
+    assert check_json(path) == (expected, 1)
+    assert check_json(path) == (expected, 1)
+    # a directory entry where the entry should be: reads and writes fail, loading does not
+    monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path / "cache"))
+    entry = cache._entry("mesh", cache.stamp((tmp_path / "box.stl").resolve()))
+    (entry / "sub").mkdir(parents=True)
+    assert check_json(path) == (expected, 1)
+    assert check_json(path) == (expected, 1)
+
+
+def test_no_cache_reads_and_writes_nothing(tmp_path):
+    path = box_robot(tmp_path)
+    real, _ = check_json(path)
+    # a planted entry (valid, but twice the size): the cache is read when on...
+    stl = (tmp_path / "box.stl").resolve()
+    key = cache.stamp(stl)
+    header, hull = meshes._encode(meshes._load(stl, need_volume=True))
+    header["lower"] = [2 * x for x in header["lower"]]
+    header["upper"] = [2 * x for x in header["upper"]]
+    cache.write("mesh", key, header, 2 * hull)
+    planted, loads = check_json(path)
+    assert loads == 0 and messages(planted) != messages(real)
+    # ...and not with --no-cache, which leaves the planted entry alone
+    before = entries()[0].read_bytes()
+    assert check_json(path, "--no-cache") == (real, 1)
+    assert entries()[0].read_bytes() == before
+    # nothing written either
+    other = tmp_path / "other"
+    other.mkdir()
+    box_robot(other)
+    check_json(other / "robot.urdf", "--no-cache")
+    assert len(entries()) == 1
+    fresh_process()
+    result = run_urdftool("inertia", "--format", "json", "--no-cache", other / "robot.urdf")
+    assert result.code in (0, 1) and meshes.LOADS == 1 and len(entries()) == 1
+    fresh_process()
+    run_urdftool("inertia", "--format", "json", other / "robot.urdf")
+    assert meshes.LOADS == 1 and len(entries()) == 2
+
+
+def test_an_entry_without_volume_is_completed_when_the_volume_is_needed(tmp_path):
+    box_robot(tmp_path)
+    inertial = ('<inertial><mass value="2"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" '
+                'izz="1"/></inertial>')
+    mesh = '<geometry><mesh filename="box.stl"/></geometry>'
+    # the mesh as a visual beside a collision box: its volume is not needed
+    visual = tmp_path / "visual.urdf"
+    visual.write_text(f'<robot name="r"><link name="a">{inertial}<visual>{mesh}</visual>'
+                      '<collision><geometry><box size="0.2 0.1 0.05"/></geometry></collision>'
+                      "</link></robot>")
+    collision = tmp_path / "collision.urdf"
+    collision.write_text(f'<robot name="r"><link name="a">{inertial}<collision>{mesh}'
+                         "</collision></link></robot>")
+    key = cache.stamp((tmp_path / "box.stl").resolve())
+    assert check_json(visual)[1] == 1
+    stored = meshes._decode(Path("box.stl"), cache.read("mesh", key))
+    assert not stored.has_volume and stored.solid is None
+    report, loads = check_json(collision)
+    assert loads == 1
+    assert check_json(collision) == (report, 0)
+    stored = meshes._decode(Path("box.stl"), cache.read("mesh", key))
+    assert stored.has_volume and stored.solid.volume == pytest.approx(0.2 * 0.1 * 0.05)
+    assert check_json(visual)[1] == 0  # the complete entry serves the visual too
+
+
+def test_errors_are_cached_and_untrusted_runs_use_the_cache(tmp_path):
+    package = tmp_path / "pkg"
+    package.mkdir()
+    (package / "package.xml").write_text("<package><name>pkg</name></package>")
+    path = box_robot(package)
+    (package / "broken.stl").write_text("solid x\n facet normal 0 0 1\n")
+    path.write_text(path.read_text().replace(
+        "</link>", '<visual><geometry><mesh filename="broken.stl"/></geometry></visual></link>'))
+    cold, loads = check_json(path, "--untrusted")
+    assert loads == 2 and any("cannot be read" in m for m in messages(cold))
+    assert check_json(path, "--untrusted") == (cold, 0)
+    assert check_json(path, "--trusted") == (cold, 0)
+
+
+def _write_many(directory: str, key: dict, worker: int) -> None:
+    os.environ["URDFTOOL_CACHE_DIR"] = directory
+    for i in range(200):
+        rows = 1 + (worker * 7 + i) % 50
+        cache.write("mesh", key, {"rows": rows}, np.full((rows, 3), float(rows)))
+
+
+def test_concurrent_writers_leave_whole_entries(tmp_path):
+    key = {"path": "/some/mesh.stl", "size": 1, "mtime_ns": 2, "format": cache.FORMAT,
+           "version": "x"}
+    context = multiprocessing.get_context("fork")
+    writers = [context.Process(target=_write_many, args=(str(cache.directory()), key, w))
+               for w in range(4)]
+    for writer in writers:
+        writer.start()
+    seen = 0
+    while any(writer.is_alive() for writer in writers) or seen == 0:
+        stored = cache.read("mesh", key)
+        if stored is not None:
+            header, values = stored
+            assert values.shape == (3 * header["rows"],)
+            assert (values == header["rows"]).all()
+            seen += 1
+    for writer in writers:
+        writer.join()
+        assert writer.exitcode == 0
+    assert seen > 0
+    assert [p.name for p in entries()] == [cache._entry("mesh", key).name]  # no temp files left

@@ -1,0 +1,108 @@
+"""The persistent cache: what urdftool derives from files that rarely change (mesh summaries),
+kept between runs in ``$URDFTOOL_CACHE_DIR``, else ``$XDG_CACHE_HOME/urdftool``, else
+``~/.cache/urdftool``.
+
+An entry is data, never code (no pickle): one file holding a JSON header line, then raw
+little-endian float64 values. It is keyed on the source file's resolved path, size and
+``mtime_ns``, the cache format and urdftool's version, all stored in the entry and compared on
+read (the file name is a hash of the path and kind only, so a changed file replaces its entry).
+Hashing the content instead would be safer against a same-size rewrite within one mtime tick,
+but reading the 400 MB of meshes of the test corpus costs ~0.3 s, more than a warm run's whole
+cache lookup.
+
+Writes are atomic (a temporary file in the same directory, then ``os.replace``): concurrent
+writers (a process pool over files) and readers only ever see whole entries, the last writer
+wins. Any failure to read or write (read-only home, a corrupt or truncated entry, a full disk)
+makes the caller compute the value again: the cache can only save time. ``ENABLED`` is turned
+off by ``--no-cache`` (nothing read, nothing written).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+from pathlib import Path
+
+from urdftool import __version__
+
+FORMAT = 1
+ENABLED = True
+_MAX_HEADER = 1 << 16
+
+
+def directory() -> Path:
+    explicit = os.environ.get("URDFTOOL_CACHE_DIR")
+    if explicit:
+        return Path(explicit)
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    base = Path(xdg) if xdg else Path.home() / ".cache"
+    return base / "urdftool"
+
+
+def stamp(path: Path) -> dict | None:
+    """The key of an entry derived from the file at ``path`` (a resolved path), or None when
+    the cache is off or the file cannot be stat'ed. Take it before reading the file: a file
+    changed meanwhile is then stored under its old stamp, never the reverse."""
+    if not ENABLED:
+        return None
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return {"path": str(path), "size": st.st_size, "mtime_ns": st.st_mtime_ns,
+            "format": FORMAT, "version": __version__}
+
+
+def _entry(kind: str, key: dict) -> Path:
+    digest = hashlib.sha256(f"{kind}\0{key['path']}".encode("utf-8", "surrogatepass"))
+    return directory() / kind / digest.hexdigest()[:40]
+
+
+def read(kind: str, key: dict):
+    """(header dict, 1-D float64 array) stored for ``key``, or None (absent, stale, corrupt)."""
+    import numpy as np
+
+    try:
+        with open(_entry(kind, key), "rb") as handle:
+            data = handle.read()
+        end = data.index(b"\n", 0, _MAX_HEADER)
+        entry = json.loads(data[:end])
+        if not isinstance(entry, dict) or entry.get("key") != key:
+            return None
+        header = entry.get("data")
+        count = entry.get("values")
+        if not isinstance(header, dict) or type(count) is not int \
+                or len(data) - end - 1 != 8 * count:
+            return None
+        return header, np.frombuffer(data, dtype="<f8", offset=end + 1)
+    except (OSError, ValueError, UnicodeDecodeError, RecursionError):
+        return None
+
+
+def write(kind: str, key: dict, header: dict, values) -> None:
+    """Store ``header`` (JSON-able) and ``values`` (float64 array) for ``key``; any failure is
+    silently ignored."""
+    import numpy as np
+
+    values = np.ascontiguousarray(values, dtype="<f8").ravel()
+    target = _entry(kind, key)
+    temp = None
+    try:
+        text = json.dumps({"key": key, "data": header, "values": int(values.size)})
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, temp = tempfile.mkstemp(prefix=".tmp-", dir=target.parent)
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(text.encode("utf-8") + b"\n")
+            handle.write(values.tobytes())
+        os.replace(temp, target)
+        temp = None
+    except (OSError, ValueError, TypeError):
+        pass
+    finally:
+        if temp is not None:
+            try:
+                os.unlink(temp)
+            except OSError:
+                pass
