@@ -291,7 +291,8 @@ def _perp(v: Vec3, axis: Vec3) -> Vec3:
 
 
 def _sq_distance(point: Vec3, origin: Vec3, axis: Vec3) -> float:
-    return dot(_perp(sub(point, origin), axis), _perp(sub(point, origin), axis))
+    perp = _perp(sub(point, origin), axis)
+    return dot(perp, perp)
 
 
 def _rim_max(centre: Vec3, a: Vec3, b: Vec3, radius: float, origin: Vec3, axis: Vec3) -> float:
@@ -316,6 +317,7 @@ class Extent:
     def __init__(self, rotation: Mat3, translation: Vec3):
         self.rotation = rotation
         self.translation = translation
+        self._inverse = transpose(rotation)
 
     def support(self, direction: Vec3) -> Vec3:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -324,7 +326,7 @@ class Extent:
         raise NotImplementedError
 
     def _local(self, direction: Vec3) -> Vec3:
-        return mat_vec(transpose(self.rotation), direction)
+        return mat_vec(self._inverse, direction)
 
     def _world(self, point: Vec3) -> Vec3:
         return add(mat_vec(self.rotation, point), self.translation)
@@ -406,36 +408,40 @@ def max_sq_distance(extents: list[Extent], origin: Vec3, axis: Vec3) -> float:
     return max(e.max_sq_distance(origin, axis) for e in extents)
 
 
+# the non-empty subsets of 1-4 points, as index lists, in the order of their bit masks
+_SUBSETS = {n: [[i for i in range(n) if mask >> i & 1] for mask in range(1, 1 << n)]
+            for n in range(1, 5)}
+
+
 def _closest_on_simplex(points: list[Vec3]) -> tuple[Vec3, list[Vec3]]:
     """The point of the convex hull of 1-4 points closest to the origin, and the smallest
     subset of points whose hull contains it (brute force over the faces)."""
-    best: tuple[float, Vec3, list[Vec3]] | None = None
-    n = len(points)
-    for mask in range(1, 1 << n):
-        subset = [points[i] for i in range(n) if mask >> i & 1]
-        base = subset[0]
-        edges = [sub(p, base) for p in subset[1:]]
-        k = len(edges)
-        if k == 0:
-            weights: list[float] = []
+    best_d2 = 0.0
+    best: tuple[Vec3, list[int]] | None = None
+    for indices in _SUBSETS[len(points)]:
+        base = points[indices[0]]
+        bx, by, bz = base
+        if len(indices) == 1:
+            point = base
         else:
+            edges = [(p[0] - bx, p[1] - by, p[2] - bz) for p in (points[i] for i in indices[1:])]
             # minimise |base + sum w_i e_i|: Gram system G w = -E^T base
-            gram = [[dot(edges[i], edges[j]) for j in range(k)] for i in range(k)]
-            rhs = [-dot(e, base) for e in edges]
-            solved = _solve(gram, rhs)
-            if solved is None:
+            gram = [[a[0] * b[0] + a[1] * b[1] + a[2] * b[2] for b in edges] for a in edges]
+            rhs = [-(e[0] * bx + e[1] * by + e[2] * bz) for e in edges]
+            weights = _solve(gram, rhs)
+            if weights is None:
                 continue
-            weights = solved
             if any(w < -1e-12 for w in weights) or sum(weights) > 1 + 1e-12:
                 continue
-        point = base
-        for w, e in zip(weights, edges):
-            point = add(point, mul(e, w))
-        d2 = dot(point, point)
-        if best is None or d2 < best[0] - 1e-30:
-            best = (d2, point, subset)
+            x, y, z = base
+            for w, e in zip(weights, edges):
+                x, y, z = x + e[0] * w, y + e[1] * w, z + e[2] * w
+            point = (x, y, z)
+        d2 = point[0] * point[0] + point[1] * point[1] + point[2] * point[2]
+        if best is None or d2 < best_d2 - 1e-30:
+            best_d2, best = d2, (point, indices)
     assert best is not None
-    return best[1], best[2]
+    return best[0], [points[i] for i in best[1]]
 
 
 def _solve(a: list[list[float]], b: list[float]) -> list[float] | None:
@@ -443,16 +449,23 @@ def _solve(a: list[list[float]], b: list[float]) -> list[float] | None:
     n = len(b)
     m = [row[:] + [b[i]] for i, row in enumerate(a)]
     scale = max((abs(x) for row in a for x in row), default=0.0)
+    if scale == 0.0:
+        return None
     for col in range(n):
-        pivot = max(range(col, n), key=lambda r: abs(m[r][col]))
-        if abs(m[pivot][col]) <= 1e-12 * scale or scale == 0.0:
+        pivot, largest = col, abs(m[col][col])
+        for r in range(col + 1, n):
+            if abs(m[r][col]) > largest:
+                pivot, largest = r, abs(m[r][col])
+        if largest <= 1e-12 * scale:
             return None
         m[col], m[pivot] = m[pivot], m[col]
+        row = m[col]
         for r in range(n):
             if r != col:
-                f = m[r][col] / m[col][col]
+                target = m[r]
+                f = target[col] / row[col]
                 for c in range(col, n + 1):
-                    m[r][c] -= f * m[col][c]
+                    target[c] -= f * row[c]
     return [m[i][n] / m[i][i] for i in range(n)]
 
 
@@ -460,20 +473,25 @@ def _hull_offset(point: Vec3, extents: list[Extent], tolerance: float = 1e-9) ->
     """closest hull point - ``point`` (zero inside), by the Gilbert-Johnson-Keerthi algorithm
     on the shapes' support functions."""
 
+    px, py, pz = point
+
     def support(direction: Vec3) -> Vec3:
-        candidates = [e.support(direction) for e in extents]
-        return sub(max(candidates, key=lambda p: dot(p, direction)), point)
+        dx, dy, dz = direction
+        best = max((e.support(direction) for e in extents),
+                   key=lambda p: p[0] * dx + p[1] * dy + p[2] * dz)
+        return (best[0] - px, best[1] - py, best[2] - pz)
 
     v = support((1.0, 0.0, 0.0))
     simplex = [v]
     for _ in range(100):
-        if dot(v, v) <= 1e-24:
+        vv = dot(v, v)
+        if vv <= 1e-24:
             return ZERO3
-        w = support(mul(v, -1.0))
+        w = support((-v[0], -v[1], -v[2]))
         # v.v - v.w is an upper bound of |v|^2 - distance^2
-        if dot(v, v) - dot(v, w) <= tolerance * max(dot(v, v), 1e-30):
+        if vv - dot(v, w) <= tolerance * max(vv, 1e-30):
             break
-        if any(dot(sub(w, s), sub(w, s)) <= 1e-24 for s in simplex):
+        if any(dot(d, d) <= 1e-24 for d in (sub(w, s) for s in simplex)):
             break
         simplex.append(w)
         v, simplex = _closest_on_simplex(simplex)

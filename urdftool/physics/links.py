@@ -81,7 +81,6 @@ class LinkAnalysis:
     bound: BoundCheck | None = None  # the worst axis
     com_distance: float | None = None  # declared COM to the geometry's convex hull
     com_thickness: float | None = None  # the hull's width along the direction to the COM
-    size: float | None = None  # largest extent of the geometry's bounding box
     ratios: Vec3 | None = None  # declared / derived moment about each inertial axis
     permutation: tuple[int, int, int] | None = None  # declared axis i matches derived perm[i]
     unit_slip: float | None = None
@@ -104,8 +103,30 @@ def _positive(*values) -> bool:
     return all(v is not None and math.isfinite(v) and v > 0 for v in values)
 
 
+class _MeshFiles:
+    """The mesh files of one robot: each ``<mesh filename>`` resolved once (a file is often
+    both a visual and a collision, and resolving walks the file system)."""
+
+    def __init__(self, robot):
+        self.robot = robot
+        self._found: dict[tuple, tuple[Path | None, bool, str | None]] = {}
+
+    def find(self, geometry) -> tuple[Path | None, bool, str | None]:
+        """(the path ``meshes.resolve`` gives, whether it is a file, its resolved name)."""
+        key = (geometry.filename, geometry.loc.path if geometry.loc is not None else None)
+        found = self._found.get(key)
+        if found is None:
+            from urdftool.physics import meshes
+
+            path = meshes.resolve(self.robot, geometry)
+            is_file = path is not None and path.is_file()
+            found = self._found[key] = (path, is_file, str(path.resolve()) if is_file else None)
+        return found
+
+
 def _shape_info(robot, shape, need_volume: bool = True,
-                volume_files: set[str] | frozenset = frozenset()) -> ShapeInfo:
+                volume_files: set[str] | frozenset = frozenset(),
+                files: _MeshFiles | None = None) -> ShapeInfo:
     info = ShapeInfo(shape)
     g = shape.geometry
     if not all(math.isfinite(v) for v in shape.origin.xyz + shape.origin.rpy):
@@ -134,13 +155,14 @@ def _shape_info(robot, shape, need_volume: bool = True,
         info.solid = phys.sphere_solid(g.radius).moved(rotation, translation)
         info.extent = phys.SphereExtent(g.radius, rotation, translation)
     elif g.kind == "mesh":
-        _mesh_shape(robot, info, rotation, translation, need_volume, volume_files)
+        _mesh_shape(files or _MeshFiles(robot), info, rotation, translation, need_volume,
+                    volume_files)
     else:
         info.problem = "no geometry" if g.kind is None else f"unknown geometry <{g.kind}>"
     return info
 
 
-def _mesh_shape(robot, info: ShapeInfo, rotation: Mat3, translation: Vec3,
+def _mesh_shape(files: _MeshFiles, info: ShapeInfo, rotation: Mat3, translation: Vec3,
                 need_volume: bool, volume_files: set[str] | frozenset) -> None:
     from urdftool.physics import meshes
 
@@ -152,12 +174,12 @@ def _mesh_shape(robot, info: ShapeInfo, rotation: Mat3, translation: Vec3,
     if not g.filename:
         info.problem = "mesh without filename"
         return
-    path = meshes.resolve(robot, g)
+    path, is_file, resolved = files.find(g)
     info.path = path
     if path is None:
         info.problem = f"cannot resolve {g.filename!r}"
         return
-    if not path.is_file():
+    if not is_file:
         info.problem = f"no file at {path}"
         return
     if path.suffix.lower() not in meshes.LOADABLE:
@@ -166,7 +188,7 @@ def _mesh_shape(robot, info: ShapeInfo, rotation: Mat3, translation: Vec3,
     if not meshes.trimesh_available():
         info.problem = "trimesh is not installed"
         return
-    need_volume = need_volume or str(path.resolve()) in volume_files
+    need_volume = need_volume or resolved in volume_files
     mesh = meshes.load_mesh(path, need_volume=need_volume)
     info.mesh = mesh
     if not mesh.ok:
@@ -181,30 +203,23 @@ def _mesh_shape(robot, info: ShapeInfo, rotation: Mat3, translation: Vec3,
 # -- analysis -------------------------------------------------------------------------------
 
 
-def _size(extents: list[Extent]) -> float:
-    spans = []
-    for axis in ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)):
-        high = max(phys.dot(e.support(axis), axis) for e in extents)
-        low = min(phys.dot(e.support(phys.mul(axis, -1.0)), axis) for e in extents)
-        spans.append(high - low)
-    return max(spans)
-
-
 def _moving_links(robot) -> set[str]:
     return {j.child for j in robot.joints if j.moving and j.child is not None}
 
 
 def analyse_link(robot, link, moving: bool = False,
-                 volume_files: set[str] | frozenset = frozenset()) -> LinkAnalysis:
+                 volume_files: set[str] | frozenset = frozenset(),
+                 files: _MeshFiles | None = None) -> LinkAnalysis:
     a = LinkAnalysis(link, moving=moving)
     # the inertia is derived from the collisions, or the visuals when there is no collision:
     # only those meshes need their volume (the costly part of reading a mesh)
     volume_role = "collision" if link.collisions else "visual"
-    a.shapes = [_shape_info(robot, s, s.role == volume_role, volume_files)
+    files = files or _MeshFiles(robot)
+    a.shapes = [_shape_info(robot, s, s.role == volume_role, volume_files, files)
                 for s in link.shapes]
     if link.collisions and not all(s.solid is not None for s in a.shapes
                                    if s.shape.role == "collision"):
-        a.shapes = [_shape_info(robot, s.shape) if s.shape.role == "visual" else s
+        a.shapes = [_shape_info(robot, s.shape, files=files) if s.shape.role == "visual" else s
                     for s in a.shapes]
     inertial = link.inertial
     if inertial is not None:
@@ -222,8 +237,6 @@ def analyse_link(robot, link, moving: bool = False,
             if a.derived_from is None and not any(s.ambiguous for s in infos):
                 a.derived_from = role
                 a.solid = phys.combine([s.solid for s in infos])  # type: ignore[misc]
-    if a.complete:
-        a.size = _size(a.extents)
     _judge(a)
     return a
 
@@ -263,10 +276,10 @@ def _judge(a: LinkAnalysis) -> None:
                 if i != j):
             axes += [(f"principal {i + 1}", a.principal_axes[i]) for i in range(3)]
         worst = None
-        for name, axis in axes:
+        link_axes = [phys.mat_vec(a.frame, axis) for _, axis in axes]
+        for (name, axis), link_axis, reach2 in zip(axes, link_axes,
+                                                   _reaches(a.shapes, a.com, link_axes)):
             moment = phys.dot(axis, phys.mat_vec(a.declared, axis))
-            link_axis = phys.mat_vec(a.frame, axis)
-            reach2 = phys.max_sq_distance(extents, a.com, link_axis)
             check = BoundCheck(name, link_axis, moment, m * reach2, math.sqrt(reach2))
             if worst is None or check.ratio > worst.ratio:
                 worst = check
@@ -322,6 +335,23 @@ def _judge(a: LinkAnalysis) -> None:
             a.findings["implausible-density"] = "info"
 
 
+def _reaches(shapes: list[ShapeInfo], origin: Vec3, axes: list[Vec3]) -> list[float]:
+    """``phys.max_sq_distance`` over the shapes' extents for each axis; a mesh's offsets from
+    ``origin`` and their squared lengths are computed once for all the axes."""
+    rows = []
+    for s in shapes:
+        if s.mesh is None:
+            rows.append([s.extent.max_sq_distance(origin, axis) for axis in axes])
+            continue
+        import numpy as np
+
+        rel = s.extent.points - np.asarray(origin, dtype=float)
+        squares = np.einsum("ij,ij->i", rel, rel)
+        along = [rel @ np.asarray(axis, dtype=float) for axis in axes]
+        rows.append([float(np.max(squares - a * a)) for a in along])
+    return [max(row[k] for row in rows) for k in range(len(axes))]
+
+
 def is_placeholder(tensor: Mat3) -> bool:
     """ixx = iyy = izz = a power of ten and no products: a value typed in, not computed."""
     d = phys.diag(tensor)
@@ -336,21 +366,17 @@ def is_placeholder(tensor: Mat3) -> bool:
 _last: tuple[object, dict[int, LinkAnalysis]] | None = None
 
 
-def _volume_files(robot) -> set[str]:
+def _volume_files(robot, files: _MeshFiles) -> set[str]:
     """The mesh files some link derives its inertia from (read with their volume from the
     start, so that a file used as a visual here and a collision there is read once)."""
-    files: set[str] = set()
-    shapes = [s for link in robot.links for s in (link.collisions or link.visuals)
-              if s.geometry.kind == "mesh" and s.geometry.filename]
-    if not shapes:
-        return files
-    from urdftool.physics import meshes
-
-    for shape in shapes:
-        path = meshes.resolve(robot, shape.geometry)
-        if path is not None:
-            files.add(str(path.resolve()))
-    return files
+    names: set[str] = set()
+    for link in robot.links:
+        for shape in link.collisions or link.visuals:
+            if shape.geometry.kind == "mesh" and shape.geometry.filename:
+                path, is_file, resolved = files.find(shape.geometry)
+                if path is not None:
+                    names.add(resolved if is_file else str(path.resolve()))
+    return names
 
 
 def analyse(robot) -> dict[int, LinkAnalysis]:
@@ -360,11 +386,12 @@ def analyse(robot) -> dict[int, LinkAnalysis]:
     if _last is not None and _last[0] is robot:
         return _last[1]
     moving = _moving_links(robot)
-    volume_files = _volume_files(robot)
+    files = _MeshFiles(robot)
+    volume_files = _volume_files(robot, files)
     result = {}
     for i, link in enumerate(robot.links):
         try:
-            result[i] = analyse_link(robot, link, link.name in moving, volume_files)
+            result[i] = analyse_link(robot, link, link.name in moving, volume_files, files)
         except (ArithmeticError, ValueError):  # numbers no analysis can use: say nothing
             result[i] = LinkAnalysis(link, moving=link.name in moving)
     _last = (robot, result)
