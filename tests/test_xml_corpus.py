@@ -157,6 +157,53 @@ def test_pathological_inputs_return_quickly(name):
     assert problems and len(problems) <= xmlrepair.MAX_REPAIRS + 3
 
 
+def _nested_unclosed(n: int) -> str:
+    return '<robot name="r">\n' + "<link>" * n + "\n</robot>\n"
+
+
+def _siblings_one_broken(n: int) -> str:
+    return ('<robot name="r">\n' + '<link name="a"/>\n' * n
+            + '<joint name="j">\nimit effort="1"/>\n</joint>\n</robot>\n')
+
+
+def _distinct_unclosed_then_typos(n: int) -> str:
+    return ('<robot name="r">\n' + "".join(f"<a{i}>" for i in range(n)) + "\n"
+            + "</zz>\n" * 300 + "</robot>\n")
+
+
+def _fastest_repair(text: str, runs: int = 3) -> float:
+    times = []
+    for _ in range(runs):
+        start = time.perf_counter()
+        repair(text, "x.urdf")
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+@pytest.mark.parametrize("make", [_nested_unclosed, _siblings_one_broken,
+                                  _distinct_unclosed_then_typos], ids=lambda m: m.__name__[1:])
+def test_repair_time_grows_linearly_with_size(make):
+    """40k nested unclosed <link> took 22 s, 40k siblings 22 s (an XPath per element; unclosed
+    children handed up level by level), 20k distinct unclosed elements then mistyped end tags
+    27 s (each compared with every open element): 8x the size may cost about 8x the time, not
+    64x (the fastest of three runs, on a loaded machine)."""
+    small, large = _fastest_repair(make(5000)), _fastest_repair(make(40000))
+    assert large < 10
+    assert large / small < 24, (small, large)
+
+
+def test_xpath_of_a_finding_among_many_siblings():
+    text = ('<robot name="r">\n' + '<link name="a"/>\n' * 1000 + '<link name="b"\n'
+            + '<link name="c"/>\n' * 5 + "</robot>\n")
+    fixed, problems = repair(text, "x.urdf")
+    assert [(rule, f.loc.line) for rule, f in problems] == [
+        ("xml.missing-close-bracket", 1002), ("xml.unclosed-tag", 1002)]
+    element = etree.fromstring(fixed.encode())[1000]
+    assert element.get("name") == "b" and element.sourceline == 1002
+    assert element.getroottree().getpath(element) == "/robot/link[1001]"
+    assert {f.loc.element for _, f in problems} == {"/robot/link[1001]"}
+
+
 def test_repair_budget_is_bounded_and_said():
     text = '<robot name="r">\n' + '<link name=a/>\n' * 500 + "</robot>\n"
     _, problems = repair(text, "x.urdf")

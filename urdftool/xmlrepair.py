@@ -25,6 +25,7 @@ from __future__ import annotations
 import bisect
 import difflib
 import re
+from collections import deque
 from dataclasses import dataclass, field
 
 from lxml import etree
@@ -34,6 +35,7 @@ from urdftool.report import Finding
 
 MAX_REPAIRS = 200  # recognised breakages per file; then stop and let the parser speak
 MAX_ROUNDS = 8  # scan -> edit -> strict parse rounds
+SIMILAR_DEPTH = 50  # open elements an end tag with a typo may have meant (innermost first)
 
 _GOOD_DECL_RE = re.compile(
     r"""<\?xml\s+version\s*=\s*(["'])([^"'\n<>?]*)\1(?:\s+encoding\s*=\s*(["'])[A-Za-z][-\w.]*\3)?"""
@@ -213,7 +215,7 @@ class _Open:
     start: int  # offset of '<'
     tag_end: int  # offset just after '>'
     prefixes: set = field(default_factory=set)  # namespace prefixes in scope here (inherited)
-    children: list = field(default_factory=list)  # (name, start offset)
+    children: deque = field(default_factory=deque)  # (name, start offset)
     first_text: tuple[int, int] | None = None  # non-blank text before the first child
     reopened: bool = False
     gt_inserted: bool = False  # its '>' is a repair (so there is no '>' at tag_end - 1)
@@ -242,7 +244,7 @@ class _Scanner:
     # -- helpers --------------------------------------------------------------------------
     def line_of(self, offset: int) -> int:
         if self._line_starts is None:
-            self._line_starts = [0] + [m.end() for m in re.finditer("\n", self.t)]
+            self._line_starts = _line_starts(self.t)
         return bisect.bisect_right(self._line_starts, offset)
 
     def edit(self, start: int, end: int, replacement: str, first: bool = False,
@@ -719,7 +721,8 @@ class _Scanner:
             return
         index = next((i for i in range(len(stack) - 1, -1, -1) if stack[i].name == name), None)
         if index is None:
-            scores = [(_similar(name, element.name), i) for i, element in enumerate(stack)]
+            innermost = range(max(0, len(stack) - SIMILAR_DEPTH), len(stack))
+            scores = [(_similar(name, stack[i].name), i) for i in innermost]
             close = [(score, i) for score, i in scores if score >= 0.75]
             if close:
                 index = max(close, key=lambda s: (s[0], s[1]))[1]
@@ -753,19 +756,17 @@ class _Scanner:
         allowed_here = self.allowed()
         if not inside or not top.children or (allowed_here is not None and name not in allowed_here):
             return False
-        first = len(top.children)
-        while first > 0 and top.children[first - 1][0] in inside:
-            first -= 1
-        if first == len(top.children):
+        moved: deque = deque()
+        while top.children and top.children[-1][0] in inside:
+            moved.appendleft(top.children.pop())
+        if not moved:
             return False
-        child, child_start = top.children[first]
+        child, child_start = moved[0]
         self.report("xml.mismatched-tag",
                     f"<{name}> is missing here: </{name}> at line {self.line_of(start)} closes "
                     "an element that was never opened", child_start,
                     hint=f"write <{name}> before <{child}>", anchor=(child_start, name))
         self.edit(child_start, child_start, f"<{name}>", opening=True)
-        moved = top.children[first:]
-        del top.children[first:]
         top.children.append((name, child_start))
         self.stack.append(_Open(name, child_start, child_start, top.prefixes, children=moved))
         return True
@@ -781,7 +782,7 @@ class _Scanner:
         element = self.stack.pop()
         name = element.name
         line = self.line_of
-        moved: list = []
+        moved: deque = deque()
         message = f"<{name}> opened here is never closed"
         anchor = (element.start, name)
         if element.first_text:
@@ -818,7 +819,9 @@ class _Scanner:
                 index, (child, child_start) = stray
                 self.edit(child_start, child_start, f"</{name}>", first=True)
                 hint = f"write </{name}> before <{child}> at line {line(child_start)}"
-                moved = element.children[index:]
+                moved = element.children
+                for _ in range(index):
+                    moved.popleft()
             elif closing is None:
                 self.edit(self.n, self.n, f"</{name}>", first=True)
                 hint = f"write </{name}> at the end of the file"
@@ -829,7 +832,7 @@ class _Scanner:
             return
         self.report("xml.unclosed-tag", message, element.start, hint=hint, anchor=anchor)
         if self.stack:
-            self.stack[-1].children.extend(moved)
+            _adopt(self.stack[-1], moved)
 
     def end_of_file(self) -> None:
         if self.root is None:  # text only: one finding says it all
@@ -957,6 +960,16 @@ class _Scanner:
         self.open(name, start, match.end("close"), close == "/>", declared)
 
 
+def _adopt(parent: _Open, moved: deque) -> None:
+    """Append ``moved`` to the children of ``parent`` in time proportional to the shorter of the
+    two: thousands of nested unclosed elements hand a growing list up one level each."""
+    if len(moved) > len(parent.children):
+        moved.extendleft(reversed(parent.children))
+        parent.children = moved
+    else:
+        parent.children.extend(moved)
+
+
 @dataclass
 class _FakeMatch:
     _start: int
@@ -992,7 +1005,7 @@ def _apply(text: str, edits: list[tuple[int, int, str, int]]):
         position = end
     parts.append(text[position:])
     new = "".join(parts)
-    line_starts = [0] + [m.end() for m in re.finditer("\n", new)]
+    line_starts = _line_starts(new)
     per_line: dict[int, list[tuple[int, int, int]]] = {}
     for start, end, delta in shifts:
         line = bisect.bisect_right(line_starts, start)
@@ -1012,10 +1025,15 @@ def _map_back(line: int, column0: int, history: list[dict]) -> int:
     return max(column0, 0)
 
 
-def _position(text: str, offset: int) -> tuple[int, int]:
-    """1-based line and 0-based column of an offset."""
-    line = text.count("\n", 0, offset) + 1
-    return line, offset - (text.rfind("\n", 0, offset) + 1)
+def _line_starts(text: str) -> list[int]:
+    """The offset where each line of ``text`` starts (for ``_position``)."""
+    return [0] + [m.end() for m in re.finditer("\n", text)]
+
+
+def _position(starts: list[int], offset: int) -> tuple[int, int]:
+    """1-based line and 0-based column of an offset, given the text's ``_line_starts``."""
+    line = bisect.bisect_right(starts, offset)
+    return line, offset - starts[line - 1]
 
 
 def _qualified(element) -> str:
@@ -1076,9 +1094,10 @@ def _repair(text: str, path: str, problems: list):
         scanner = _Scanner(text, budget)
         scanner.scan()
         scanned = True
+        starts = _line_starts(text)
         fresh = []
         for problem in scanner.problems:
-            line, column0 = _position(text, problem.offset)
+            line, column0 = _position(starts, problem.offset)
             key = (problem.rule, problem.message, line, _map_back(line, column0, history))
             if key not in seen_keys:
                 seen_keys.add(key)
@@ -1087,23 +1106,17 @@ def _repair(text: str, path: str, problems: list):
             break  # nothing new recognised: repeating the same repairs would not help
         fresh = fresh[:budget]
         for problem in fresh:
-            line, column0 = _position(text, problem.offset)
+            line, column0 = _position(starts, problem.offset)
             column0 = _map_back(line, column0, history)
             anchor = None
             if problem.anchor:
-                anchor = (_position(text, problem.anchor[0])[0], problem.anchor[1])
+                anchor = (_position(starts, problem.anchor[0])[0], problem.anchor[1])
             found.append((problem.rule, problem.message, line, column0 + 1, problem.hint, anchor,
                           problem.severity))
         text, per_line = _apply(text, scanner.edits)
         history.append(per_line)
         root, error = _strict_parse(text)
-    elements: dict[tuple[int, str], str] = {}
-    if root is not None and any(f[5] for f in found):
-        tree = root.getroottree()
-        for element in root.iter():
-            if isinstance(element.tag, str):
-                elements.setdefault((element.sourceline, _qualified(element)),
-                                    tree.getpath(element))
+    elements = _anchored_paths(root, {f[5] for f in found if f[5]}) if root is not None else {}
     seen = set()
     for rule, message, line, column, hint, anchor, severity in found:
         key = (rule, message, line, column)
@@ -1120,6 +1133,20 @@ def _repair(text: str, path: str, problems: list):
     if error is not None and not any(f[0] == "xml.no-root" for f in found):
         problems.append(("xml.syntax", _syntax_finding(error, path, history, original)))
     return text, problems, root if error is None else None
+
+
+def _anchored_paths(root, anchors: set) -> dict[tuple[int, str], str]:
+    """The XPath of the first element at each (line, qualified name) of ``anchors``. Only those:
+    ``getpath`` counts an element's preceding siblings, so one per element is quadratic."""
+    lines = {line for line, _ in anchors}
+    tree = root.getroottree()
+    paths: dict[tuple[int, str], str] = {}
+    for element in root.iter():
+        if element.sourceline in lines and isinstance(element.tag, str):
+            key = (element.sourceline, _qualified(element))
+            if key in anchors and key not in paths:
+                paths[key] = tree.getpath(element)
+    return paths
 
 
 def _syntax_finding(error, path: str, history: list, original: str) -> Finding:
@@ -1146,14 +1173,15 @@ def _replace_bad_characters(text: str, found: list) -> str:
     matches = list(_BAD_CHARS_RE.finditer(text))
     if not matches:
         return text
+    starts = _line_starts(text)
     content_end = len(text.rstrip("\x00 \t\r\n"))
     for count, match in enumerate(matches):
         if count == 20:
-            line, column0 = _position(text, match.start())
+            line, column0 = _position(starts, match.start())
             more = f"{len(matches) - 20} more runs of characters XML forbids"
             found.append(("xml.bad-character", more, line, column0 + 1, None, None, None))
             break
-        line, column0 = _position(text, match.start())
+        line, column0 = _position(starts, match.start())
         characters = ", ".join(f"U+{ord(c):04X}" for c in list(dict.fromkeys(match.group()))[:5])
         trailing = match.start() >= content_end and set(match.group()) == {"\x00"}
         if trailing:
