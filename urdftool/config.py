@@ -7,21 +7,25 @@ Keys: ``select`` and ``ignore`` (lists of rule ids or families), ``strict`` (boo
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from urdftool.errors import ToolError
 
-_SUPPRESS_RE = re.compile(r"<!--\s*urdftool:\s*ignore\s+([^>]*?)\s*-->")
+# compiled on first use (re caches it): most files have no suppression comment
+_SUPPRESS = r"<!--\s*urdftool:\s*ignore\s+([^>]*?)\s*-->"
 
 
-@dataclass
 class Config:
-    select: list[str] = field(default_factory=list)
-    ignore: list[str] = field(default_factory=list)
-    strict: bool = False
-    severity: dict[str, str] = field(default_factory=dict)
-    path: Path | None = None
+    __slots__ = ("ignore", "path", "select", "severity", "strict")
+
+    def __init__(self, select: list[str] | None = None, ignore: list[str] | None = None,
+                 strict: bool = False, severity: dict[str, str] | None = None,
+                 path: Path | None = None):
+        self.select = select if select is not None else []
+        self.ignore = ignore if ignore is not None else []
+        self.strict = strict
+        self.severity = severity if severity is not None else {}
+        self.path = path
 
 
 def find_pyproject(start: Path) -> Path | None:
@@ -71,8 +75,10 @@ def suppressions(text: str) -> dict[int, set[str]]:
     """Line -> rule ids or families suppressed there. A comment suppresses its own line and the
     line below it ("on or above the line")."""
     result: dict[int, set[str]] = {}
+    if "urdftool:" not in text:
+        return result
     for number, line in enumerate(text.splitlines(), start=1):
-        for match in _SUPPRESS_RE.finditer(line):
+        for match in re.finditer(_SUPPRESS, line):
             ids = {part for part in re.split(r"[\s,]+", match.group(1)) if part}
             for target in (number, number + 1):
                 result.setdefault(target, set()).update(ids)

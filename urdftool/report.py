@@ -1,4 +1,5 @@
 """Diagnostics, the report of a ``check`` run, and its formatters (text, json, sarif, github).
+Plain records (no dataclasses): this module is imported by every ``urdftool check``.
 
 Formatters return strings; the CLI prints them. Floats in machine output are never rounded.
 """
@@ -6,7 +7,7 @@ Formatters return strings; the CLI prints them. Floats in machine output are nev
 from __future__ import annotations
 
 import json
-from dataclasses import asdict, dataclass, field
+from typing import NamedTuple
 
 from urdftool import __version__
 from urdftool.model import Loc
@@ -14,8 +15,7 @@ from urdftool.model import Loc
 SEVERITIES = ("error", "warning", "info")
 
 
-@dataclass(frozen=True)
-class Finding:
+class Finding(NamedTuple):
     """What a rule found: a message at a place, with an optional fix hint.
 
     ``severity`` overrides the rule's default when a rule grades its own findings
@@ -28,8 +28,7 @@ class Finding:
     severity: str | None = None
 
 
-@dataclass(frozen=True)
-class Diagnostic:
+class Diagnostic(NamedTuple):
     rule: str
     severity: str
     message: str
@@ -40,24 +39,29 @@ class Diagnostic:
     hint: str | None
 
     def to_json(self) -> dict:
-        return asdict(self)
+        return self._asdict()
 
 
-@dataclass
 class FileReport:
-    path: str
-    robot: str | None
-    diagnostics: list[Diagnostic] = field(default_factory=list)
-    texts: dict[str, str] = field(default_factory=dict, repr=False)  # for source excerpts
+    __slots__ = ("diagnostics", "path", "robot", "texts")
+
+    def __init__(self, path: str, robot: str | None, diagnostics: list[Diagnostic] | None = None,
+                 texts: dict[str, str] | None = None):
+        self.path = path
+        self.robot = robot
+        self.diagnostics = diagnostics if diagnostics is not None else []
+        self.texts = texts if texts is not None else {}  # for source excerpts
 
     def to_json(self) -> dict:
         return {"path": self.path, "robot": self.robot,
                 "diagnostics": [d.to_json() for d in self.diagnostics]}
 
 
-@dataclass
 class Report:
-    files: list[FileReport] = field(default_factory=list)
+    __slots__ = ("files",)
+
+    def __init__(self, files: list[FileReport] | None = None):
+        self.files = files if files is not None else []
 
     def count(self, severity: str) -> int:
         return sum(d.severity == severity for f in self.files for d in f.diagnostics)

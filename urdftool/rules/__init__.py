@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from urdftool.model import Robot
 from urdftool.report import SEVERITIES, Finding
@@ -19,8 +19,7 @@ FAMILIES = ("xml", "schema", "structure", "joint", "mimic", "inertia", "geometry
             "material", "gazebo", "transmission", "xacro", "sdf")
 
 
-@dataclass(frozen=True)
-class Rule:
+class Rule(NamedTuple):
     id: str  # FAMILY.NAME
     severity: str
     summary: str  # one line
