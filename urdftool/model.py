@@ -247,10 +247,10 @@ def parse_vector(text: str | None, size: int = 3) -> tuple[float, ...] | None:
     if len(parts) != size:
         return None
     try:
-        values = tuple(float(p) for p in parts)
+        values = tuple(map(float, parts))
     except ValueError:
         return None
-    return values if all(math.isfinite(v) for v in values) else None
+    return values if all(map(math.isfinite, values)) else None
 
 
 def _child(element, tag: str):

@@ -13,7 +13,6 @@ import contextlib
 import io
 import os
 import re
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from lxml import etree
@@ -27,46 +26,73 @@ from urdftool.xmlrepair import repair_and_parse, secure_parser
 ROBOT_SUFFIXES = (".urdf", ".xacro", ".sdf")
 LOC_ATTR = "urdftool-loc"
 VIA_ATTR = "urdftool-via"
+# Patterns are compiled on first use (``re`` caches them), not at import: most runs need few.
 # xacro is run only when the file uses it: many generated URDFs keep an unused xmlns:xacro.
-_XACRO_USE_RE = re.compile(r"<xacro:|\$\{|\$\((?:find|arg|env|optenv|eval|dirname) ")
-_XACRO_ELEMENT_RE = re.compile(r"<xacro:")
-_COMMENT_RE = re.compile(r"<!--.*?-->", re.DOTALL)
-_ENCODING_DECL_RE = re.compile(r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2")
+_XACRO_USE = r"<xacro:|\$\{|\$\((?:find|arg|env|optenv|eval|dirname) "
+_COMMENT = r"(?s)<!--.*?-->"
+_ENCODING_DECL = r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2"
 
 
-@dataclass
 class LoadOptions:
-    packages: dict[str, str] = field(default_factory=dict)  # -P NAME=DIR
-    xacro_args: dict[str, str] = field(default_factory=dict)  # NAME:=VALUE
-    sdf_model: str | None = None  # SDF input: the model to convert (--model)
-    sdf_model_paths: list[str] = field(default_factory=list)  # SDF: model:// search (--model-path)
-    # untrusted input (issue 8; see urdftool.sandbox): xacro runs in a confined child process,
-    # $(env)/$(optenv) see only allow_env, files are read only inside the package roots
-    untrusted: bool = False
-    allow_env: tuple[str, ...] = ()
-    timeout: float | None = 5.0  # seconds for one xacro expansion (None: no limit)
-    memory_mb: int = 1024  # memory for the sandboxed expansion, above what is already mapped
+    __slots__ = ("allow_env", "memory_mb", "packages", "sdf_model", "sdf_model_paths", "timeout",
+                 "untrusted", "xacro_args")
+
+    def __init__(self, packages: dict[str, str] | None = None,
+                 xacro_args: dict[str, str] | None = None, sdf_model: str | None = None,
+                 sdf_model_paths: list[str] | None = None, untrusted: bool = False,
+                 allow_env: tuple[str, ...] = (), timeout: float | None = 5.0,
+                 memory_mb: int = 1024):
+        self.packages = packages if packages is not None else {}  # -P NAME=DIR
+        self.xacro_args = xacro_args if xacro_args is not None else {}  # NAME:=VALUE
+        self.sdf_model = sdf_model  # SDF input: the model to convert (--model)
+        self.sdf_model_paths = sdf_model_paths if sdf_model_paths is not None else []  # model://
+        # untrusted input (issue 8; see urdftool.sandbox): xacro runs in a confined child process,
+        # $(env)/$(optenv) see only allow_env, files are read only inside the package roots
+        self.untrusted = untrusted
+        self.allow_env = allow_env
+        self.timeout = timeout  # seconds for one xacro expansion (None: no limit)
+        self.memory_mb = memory_mb  # memory for the sandboxed expansion, above what is mapped
 
 
-@dataclass
 class Source:
     """One input file, read and (for xacro) expanded."""
 
-    path: str  # as given by the user
-    kind: str  # "urdf", "xacro" or "sdf"
-    root: etree._Element | None = None  # the URDF document (expanded / converted)
-    problems: list[tuple[str, Finding]] = field(default_factory=list)
-    texts: dict[str, str] = field(default_factory=dict)  # every file read -> its (original) text
-    resolver: PackageResolver | None = None
-    locs: dict = field(default_factory=dict, repr=False)  # element -> Loc
+    __slots__ = ("kind", "lines", "locs", "path", "problems", "resolver", "root", "texts")
+
+    def __init__(self, path: str, kind: str, root: etree._Element | None = None,
+                 problems: list[tuple[str, Finding]] | None = None,
+                 texts: dict[str, str] | None = None, resolver: PackageResolver | None = None,
+                 locs: dict | None = None):
+        self.path = path  # as given by the user
+        self.kind = kind  # "urdf", "xacro" or "sdf"
+        self.root = root  # the URDF document (expanded / converted)
+        self.problems = problems if problems is not None else []
+        self.texts = texts if texts is not None else {}  # every file read -> its original text
+        self.resolver = resolver
+        self.locs = locs if locs is not None else {}  # element -> Loc (xacro, SDF)
+        self.lines: list[str] | None = None  # plain URDF: its lines (positions from the parser)
 
     def loc(self, element) -> Loc:
-        """Where ``element`` was written; elements made by xacro take their parent's place."""
+        """Where ``element`` was written; elements made by xacro take their parent's place, and
+        comments their element's."""
+        xpath = element.getroottree().getpath(element) if self.root is not None else None
         node = element
+        if self.lines is not None:  # found when asked: most elements never are
+            while node is not None and not isinstance(node.tag, str):
+                node = node.getparent()
+            if node is None:
+                return Loc(self.path, None, None, xpath)
+            line = node.sourceline
+            column = None
+            if line and line <= len(self.lines):
+                tag = node.tag
+                if tag[0] == "{":  # namespaced: written with its prefix
+                    tag = _qualified_tag(node)
+                column = _column(self.lines[line - 1], tag)
+            return Loc(self.path, line, column, xpath)
         while node is not None and node not in self.locs:
             node = node.getparent()
         base = self.locs.get(node) if node is not None else None
-        xpath = element.getroottree().getpath(element) if self.root is not None else None
         if base is None:
             return Loc(self.path, None, None, xpath)
         return Loc(base.path, base.line, base.column, xpath, base.via)
@@ -90,8 +116,8 @@ def detect_kind(path: Path, text: str) -> str:
         return "sdf"
     if path.suffix == ".xacro":
         return "xacro"
-    pattern = _XACRO_ELEMENT_RE if path.suffix == ".urdf" else _XACRO_USE_RE
-    if pattern.search(text) and pattern.search(_COMMENT_RE.sub("", text)):
+    pattern = "<xacro:" if path.suffix == ".urdf" else _XACRO_USE
+    if re.search(pattern, text) and re.search(pattern, re.sub(_COMMENT, "", text)):
         return "xacro"
     return "urdf"
 
@@ -110,7 +136,7 @@ def read_text(path: Path) -> str:
                           (codecs.BOM_UTF16_BE, "utf-16")):
         if data.startswith(bom):
             try:
-                return _ENCODING_DECL_RE.sub(r"\1\2UTF-8\2", data.decode(encoding), count=1)
+                return re.sub(_ENCODING_DECL, r"\1\2UTF-8\2", data.decode(encoding), count=1)
             except UnicodeDecodeError:
                 break
     if b"\x00" in data[:4096]:
@@ -124,7 +150,7 @@ def read_text(path: Path) -> str:
 
 def _utf8_bytes(text: str) -> bytes:
     """The text as UTF-8 bytes with any encoding declaration made to agree."""
-    return _ENCODING_DECL_RE.sub(r"\1\2UTF-8\2", text, count=1).encode("utf-8")
+    return re.sub(_ENCODING_DECL, r"\1\2UTF-8\2", text, count=1).encode("utf-8")
 
 
 def parse_text(text: str, path: str, source: Source) -> etree._Element | None:
@@ -157,21 +183,6 @@ def _qualified_tag(element) -> str:
     return f"{element.prefix}:{local}" if element.prefix else local
 
 
-def index_locations(root, path: str, text: str) -> dict:
-    """Element -> Loc for a parsed file (plain URDF)."""
-    lines = text.splitlines()
-    locs = {}
-    for element in root.iter():
-        if not isinstance(element.tag, str):
-            continue
-        line = element.sourceline
-        column = None
-        if line and line <= len(lines):
-            column = _column(lines[line - 1], _qualified_tag(element))
-        locs[element] = Loc(path, line, column)
-    return locs
-
-
 def load(path: str | Path, options: LoadOptions | None = None) -> Source:
     """Read one robot file into a Source. Raises ToolError when the file cannot be read."""
     options = options or LoadOptions()
@@ -194,7 +205,7 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
         root = parse_text(text, str(path), source)
         if root is not None:
             source.root = root
-            source.locs = index_locations(root, str(path), text)
+            source.lines = text.splitlines()
     elif kind == "xacro":
         from urdftool.xacro_expand import expand
 
@@ -215,7 +226,7 @@ def quiet_stderr():
 
 
 # includes, old unprefixed ones too: the files they name are fragments, not robots
-_INCLUDE_RE = re.compile(r"<(?:xacro:)?include\s[^>]*filename\s*=\s*[\"']([^\"']+)[\"']")
+_INCLUDE = r"<(?:xacro:)?include\s[^>]*filename\s*=\s*[\"']([^\"']+)[\"']"
 
 
 def discover(paths: list[str]) -> list[Path]:
@@ -239,7 +250,7 @@ def discover(paths: list[str]) -> list[Path]:
                         head = candidate.read_text(encoding="utf-8", errors="replace")
                     except OSError:
                         continue
-                    included.update(Path(m).name for m in _INCLUDE_RE.findall(head))
+                    included.update(Path(m).name for m in re.findall(_INCLUDE, head))
             found.extend(p for p in in_directory
                          if not (p.suffix == ".xacro" and p.name in included))
         elif path.exists():
