@@ -19,10 +19,8 @@ off by ``--no-cache`` (nothing read, nothing written).
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
-import tempfile
 from pathlib import Path
 
 from urdftool import __version__
@@ -56,6 +54,8 @@ def stamp(path: Path) -> dict | None:
 
 
 def _entry(kind: str, key: dict) -> Path:
+    import hashlib  # here, not at the top: `check` on a primitive robot never needs it (start-up)
+
     digest = hashlib.sha256(f"{kind}\0{key['path']}".encode("utf-8", "surrogatepass"))
     return directory() / kind / digest.hexdigest()[:40]
 
@@ -84,6 +84,8 @@ def read(kind: str, key: dict):
 def write(kind: str, key: dict, header: dict, values) -> None:
     """Store ``header`` (JSON-able) and ``values`` (float64 array) for ``key``; any failure is
     silently ignored."""
+    import tempfile  # here, not at the top: it pulls in shutil, bz2, lzma, random (start-up)
+
     import numpy as np
 
     values = np.ascontiguousarray(values, dtype="<f8").ravel()
