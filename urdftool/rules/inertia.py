@@ -407,7 +407,8 @@ before anything is said.""",
 def implausible_density(robot):
     for a in _analyses(robot, "implausible-density"):
         volumes = a.volumes
-        if a.mass / min(volumes.values()) < analysis.DENSITY_LOW:
+        smallest = min(volumes.values())  # 0 when a tiny size underflows (found by the fuzzer)
+        if smallest > 0 and a.mass / smallest < analysis.DENSITY_LOW:
             role = min(volumes, key=volumes.__getitem__)
             density = a.mass / volumes[role]
             what = f"lighter than foam (< {analysis.DENSITY_LOW:g} kg/m³)"
