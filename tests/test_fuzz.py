@@ -5,6 +5,7 @@ traceback or an internal error, within a time bound. ``make fuzz`` runs 10 000 c
 
 from __future__ import annotations
 
+import json
 import random
 import tempfile
 from pathlib import Path
@@ -83,3 +84,84 @@ def test_judge_catches_what_counts_as_a_crash():
     assert "joint.x" in fuzz.judge(["check", "--format", "json", "x"], 1, report, "")
     assert fuzz.judge(["check", "--format", "json", "x"], 1, "not json", "")
     assert fuzz.judge(["tree", "x"], -1, "", "")
+
+
+# -- regressions: sizes, scales and places at the ends of the float range --------------------
+
+_CUBE_STL = "solid cube\n" + "".join(
+    " facet normal 0 0 0\n  outer loop\n" + "".join(
+        f"   vertex {(v >> 2) & 1} {(v >> 1) & 1} {v & 1}\n" for v in face)
+    + "  endloop\n endfacet\n"
+    for face in ((0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1), (2, 3, 7),
+                 (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3))) + "endsolid cube\n"
+EXTREME_SHAPES = {
+    "box-1e309": '<box size="1e309 1 1"/>', "box-1e308": '<box size="1e308 1e308 1e308"/>',
+    "box-inf": '<box size="inf 1 1"/>', "box-underflow": '<box size="1e-320 1e-320 1e-320"/>',
+    "cylinder-1e308": '<cylinder radius="1e308" length="1e308"/>',
+    "cylinder-inf": '<cylinder radius="inf" length="1"/>',
+    "cylinder-underflow": '<cylinder radius="4.9e-324" length="4.9e-324"/>',
+    "sphere-inf": '<sphere radius="inf"/>', "sphere-1e308": '<sphere radius="1e308"/>',
+    "sphere-nan": '<sphere radius="nan"/>', "sphere-underflow": '<sphere radius="1e-310"/>',
+    "capsule-1e308": '<capsule radius="1e308" length="1e308"/>',
+    "mesh-scale-1e308": '<mesh filename="cube.stl" scale="1e308 1e308 1e308"/>',
+    "mesh-scale-inf": '<mesh filename="cube.stl" scale="inf 1 1"/>',
+    "mesh-scale-underflow": '<mesh filename="cube.stl" scale="1e-320 1e-320 1e-320"/>',
+}
+_INERTIA = '<inertia ixx="{0}" iyy="{0}" izz="{0}" ixy="0" ixz="0" iyz="0"/>'
+# (origin of the inertial, visual and collision; mass and moments; collision the same shape)
+EXTREME_PLACES = [
+    ('<origin xyz="0 0 0"/>', "1e308", False),
+    ('<origin xyz="1e308 1e308 1e308" rpy="1e308 0 0"/>', "1e308", True),
+    ('<origin xyz="-1e308 0 0" rpy="inf 0 0"/>', "1", False),
+    ('<origin xyz="1e-320 0 0"/>', "1e-320", True),
+]
+
+
+def _extreme_robot(shape: str, origin: str, mass: str, same_collision: bool) -> str:
+    collision = shape if same_collision else '<box size="1 1 1"/>'
+    return f"""<robot name="r">
+  <link name="base"/>
+  <joint name="j" type="revolute"><parent link="base"/><child link="l"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <link name="l">
+    <inertial>{origin}<mass value="{mass}"/>{_INERTIA.format(mass)}</inertial>
+    <visual>{origin}<geometry>{shape}</geometry></visual>
+    <collision>{origin}<geometry>{collision}</geometry></collision>
+  </link>
+</robot>
+"""
+
+
+def _outcomes(write, shape: str, place: int):
+    """``check`` and ``inertia`` on the robot with ``shape`` at ``EXTREME_PLACES[place]``."""
+    write(_CUBE_STL, "cube.stl")
+    origin, mass, same = EXTREME_PLACES[place]
+    path = write(_extreme_robot(EXTREME_SHAPES[shape], origin, mass, same), f"r{place}.urdf")
+    return [fuzz.run_command(args, bound=30.0) for args in (
+        ["check", "--format", "json", "--trusted", str(path)], ["inertia", "--format=json", str(path)])]
+
+
+# physics.inertia.principal_moments squares a 1e308-scale moment with ** (OverflowError, not
+# inf); that module belongs to the physics work, which is told.
+_KNOWN_OVERFLOW = ("mesh-scale-inf", 1)
+
+
+@pytest.mark.parametrize("shape", EXTREME_SHAPES)
+def test_extreme_sizes_give_findings_not_internal_errors(write, shape):
+    """A ZeroDivisionError for a size that underflows to a zero volume (inertia.implausible-
+    density) was found this way: every rule, and the commands that analyse a link, must give
+    findings for sizes, scales, origins and masses at the ends of the float range."""
+    for place in range(len(EXTREME_PLACES)):
+        if (shape, place) == _KNOWN_OVERFLOW:
+            continue
+        check, inertia = _outcomes(write, shape, place)
+        for outcome in (check, inertia):
+            assert outcome.problem is None, (place, outcome.command[0], outcome.problem)
+            assert outcome.code in (0, 1)
+        assert json.loads(check.out)["files"][0]["robot"] == "r"
+        assert json.loads(inertia.out)["links"]
+
+
+@pytest.mark.xfail(strict=True, reason="physics.inertia.principal_moments: OverflowError")
+def test_inertia_of_an_infinitely_scaled_mesh_far_away(write):
+    assert [o.problem for o in _outcomes(write, *_KNOWN_OVERFLOW)] == [None, None]

@@ -363,8 +363,11 @@ def _save(directory: Path, number: int, seed: Path, text: str, mutations: list[s
 
 
 def campaign(cases: int, seed: int = 0, out_dir: Path | None = None,
-             bound: float = TIME_BOUND, progress=None) -> tuple[Summary, Path]:
-    """Run ``cases`` mutated cases; crashes are saved under ``out_dir``."""
+             bound: float = TIME_BOUND, progress=None,
+             minutes: float | None = None) -> tuple[Summary, Path]:
+    """Run ``cases`` mutated cases (fewer if ``minutes`` run out first); crashes are saved under
+    ``out_dir``."""
+    stop_at = time.monotonic() + minutes * 60 if minutes else None
     rng = random.Random(seed)
     corpus = seeds()
     texts = {}
@@ -380,6 +383,8 @@ def campaign(cases: int, seed: int = 0, out_dir: Path | None = None,
     os.environ.pop("CI", None)  # the commands without --trusted/--untrusted: trusted
     try:
         for number in range(cases):
+            if stop_at is not None and time.monotonic() > stop_at:
+                break
             seed_path = rng.choice(corpus)
             text, mutations = mutate(texts[seed_path], rng)
             path = workspace.write(seed_path, text)
@@ -410,6 +415,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m urdftool.fuzz", description=__doc__.split(
         "\n\n")[0])
     parser.add_argument("--cases", type=int, default=1000, help="how many mutated cases")
+    parser.add_argument("--minutes", type=float, default=None,
+                        help="stop after this long even if --cases are not all run")
     parser.add_argument("--seed", type=int, default=0, help="random seed (reproducible runs)")
     parser.add_argument("--out", type=Path, default=None, help="where crash reproducers go")
     parser.add_argument("--time-bound", type=float, default=TIME_BOUND,
@@ -422,7 +429,7 @@ def main(argv: list[str] | None = None) -> int:
               f"{time.monotonic() - started:.0f} s", file=sys.stderr, flush=True)
 
     summary, out_dir = campaign(options.cases, options.seed, options.out, options.time_bound,
-                                progress)
+                                progress, options.minutes)
     elapsed = time.monotonic() - started
     print(f"fuzz: {summary.cases} cases ({summary.runs} command runs) in {elapsed:.0f} s")
     print(f"crashes: {len(summary.crashes)}")
