@@ -10,15 +10,14 @@ Pure Python (no numpy): the ``mimic`` rules import this on every ``urdftool chec
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from urdftool.model import Joint, Robot
 
 LIMITED_TYPES = ("revolute", "prismatic")
 
 
-@dataclass(frozen=True)
-class Chain:
+class Chain(NamedTuple):
     """Where following a joint's mimic leads: the joints followed in order, and how it ends."""
 
     joints: tuple[Joint, ...]  # the follower first, then each leader in turn
@@ -96,8 +95,7 @@ def inside(inner: tuple[float, float], outer: tuple[float, float]) -> bool:
     return inner[0] >= outer[0] - eps and inner[1] <= outer[1] + eps
 
 
-@dataclass(frozen=True)
-class MimicImage:
+class MimicImage(NamedTuple):
     """A follower's image of its direct leader's range, compared with its own limits."""
 
     leader: Joint
@@ -140,8 +138,7 @@ def mimic_image(robot: Robot, joint: Joint) -> MimicImage | None:
 # -- the `urdftool limits` table ---------------------------------------------------------------
 
 
-@dataclass
-class JointRow:
+class JointRow(NamedTuple):
     name: str | None
     type: str | None
     lower: float | None
@@ -151,7 +148,7 @@ class JointRow:
     effort: float | None
     velocity: float | None
     mimic: dict | None  # {"joint", "multiplier", "offset", "image"}
-    findings: list[dict] = field(default_factory=list)  # {"rule", "severity", "message", "hint"}
+    findings: list[dict]  # {"rule", "severity", "message", "hint"}
     line: int | None = None
     path: str | None = None
 

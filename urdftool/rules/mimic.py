@@ -10,8 +10,6 @@ planners reject the state).
 
 from __future__ import annotations
 
-import difflib
-
 from urdftool.limits import composed, mimic_chain, mimic_image, tolerance
 from urdftool.model import Robot
 from urdftool.report import Finding
@@ -57,6 +55,8 @@ def unknown_joint(robot: Robot):
         if robot.joint(mimic.joint) is not None:
             continue
         what = "a link, not a joint" if robot.link(mimic.joint) is not None else "not a joint"
+        import difflib  # only on this error path: keeps start-up lean
+
         close = difflib.get_close_matches(mimic.joint, names, n=1, cutoff=0.6)
         hint = f"did you mean '{close[0]}'?" if close else \
             "name one of the robot's joints" + (

@@ -9,7 +9,6 @@ interfaces and is checked only for the names it uses.
 
 from __future__ import annotations
 
-import difflib
 import math
 
 from urdftool.model import Robot
@@ -52,6 +51,8 @@ def _joint_hint(robot: Robot, name: str) -> str:
         if parent is not None and parent.name:
             return f"'{name}' is a link; the joint that moves it is '{parent.name}'"
         return f"'{name}' is a link, not a joint"
+    import difflib  # only on this error path: keeps start-up lean
+
     close = difflib.get_close_matches(name, [j.name for j in robot.joints if j.name], n=1,
                                       cutoff=0.6)
     return f"did you mean '{close[0]}'?" if close else "name a joint of the robot"
@@ -156,6 +157,8 @@ def _check_interface(robot: Robot, node):
         return
     if "/" in value and not value.startswith("hardware_interface/"):
         return  # a vendor's own interface (e.g. franka_hw/...): not ours to judge
+    import difflib  # only on this error path: keeps start-up lean
+
     close = difflib.get_close_matches(value, KNOWN_INTERFACES, n=1, cutoff=0.6) or \
         difflib.get_close_matches(value.lower(), ROS2_INTERFACES, n=1, cutoff=0.6)
     yield Finding(f"unknown hardware interface '{value}'", robot.loc(node),

@@ -14,7 +14,6 @@ can come out empty. They survive in the expanded tree, located in the .xacro fil
 
 from __future__ import annotations
 
-import difflib
 import re
 from pathlib import Path
 
@@ -27,23 +26,24 @@ _HEAD = f'<robot xmlns:xacro="{XACRO_NS}" name="r">\n'
 
 # -- expansion errors --------------------------------------------------------------------------
 
-_PATTERNS: list[tuple[str, re.Pattern]] = [
-    ("unknown-package", re.compile(r"package '(?P<name>[^']+)' not found")),
-    ("missing-include", re.compile(
+# patterns as text, compiled on first use (re caches them): only a failed expansion needs them
+_PATTERNS: list[tuple[str, str]] = [
+    ("unknown-package", r"package '(?P<name>[^']+)' not found"),
+    ("missing-include", (
         r"cannot include|cannot read|No such file or directory|matched no files|"
         r"Include tag's filename spec")),
-    ("undefined-arg", re.compile(r"Undefined substitution argument\s*(?P<name>\S+)?")),
-    ("undefined-macro", re.compile(r"unknown macro name:?\s*(?:xacro:)?(?P<name>\S+)")),
-    ("macro-parameters", re.compile(
+    ("undefined-arg", r"Undefined substitution argument\s*(?P<name>\S+)?"),
+    ("undefined-macro", r"unknown macro name:?\s*(?:xacro:)?(?P<name>\S+)"),
+    ("macro-parameters", (
         r"Undefined parameters|Invalid parameter|Not enough blocks|Unused block|"
         r"Undefined block|were not set for macro|Undefined property to forward")),
-    ("undefined-property", re.compile(r"name '(?P<name>[^']+)' is not defined")),
-    ("bad-expression", re.compile(
+    ("undefined-property", r"name '(?P<name>[^']+)' is not defined"),
+    ("bad-expression", (
         r"when evaluating expression|invalid expression|not a boolean expression|"
         r"Use of invalid name|circular variable definition|invalid syntax")),
 ]
 
-_EXPRESSION = re.compile(r"when evaluating expression '(?P<expr>.*)'", re.DOTALL)
+_EXPRESSION = r"(?s)when evaluating expression '(?P<expr>.*)'"
 
 
 def _defined_names(robot: Robot, kind: str) -> list[str]:
@@ -58,6 +58,8 @@ def _defined_names(robot: Robot, kind: str) -> list[str]:
 def _did_you_mean(name: str | None, candidates: list[str]) -> str:
     if not name:
         return ""
+    import difflib  # only on this error path: keeps start-up lean
+
     close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
     return f"did you mean '{close[0]}'? " if close else ""
 
@@ -66,11 +68,11 @@ def classify(message: str, robot: Robot | None = None) -> tuple[str, str, str | 
     """(kind, message, hint) for a xacro error message as recorded while loading; kind is one
     of the _PATTERNS names, or "other" (message unchanged, no hint)."""
     text = message.removeprefix("xacro:").strip()
-    expression = _EXPRESSION.search(text)
+    expression = re.search(_EXPRESSION, text)
     expr = expression.group("expr").strip() if expression else None
-    head = _EXPRESSION.sub("", text).strip().rstrip(".;,: ")
+    head = re.sub(_EXPRESSION, "", text).strip().rstrip(".;,: ")
     for kind, pattern in _PATTERNS:
-        match = pattern.search(text)
+        match = re.search(pattern, text)
         if match is None:
             continue
         name = match.groupdict().get("name")
