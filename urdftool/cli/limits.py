@@ -6,7 +6,14 @@ import json
 
 import click
 
-from urdftool.cli import format_option, load_robot, package_option, split_args, stdout_console
+from urdftool.cli import (
+    format_option,
+    load_robot,
+    package_option,
+    split_args,
+    stdout_console,
+    untrusted_options,
+)
 
 
 def _num(value: float | None, digits: int = 6) -> str:
@@ -53,6 +60,7 @@ _NO_WRAP = {"type", "lower", "upper", "range", "effort", "velocity", "multiplier
 @click.argument("inputs", nargs=-1, required=True, metavar="FILE [NAME:=VALUE...]")
 @format_option("text", "json")
 @package_option
+@untrusted_options
 def command(inputs, fmt, packages):
     """Joint-limit and mimic table: ranges, efforts, velocities, mimic images, verdicts.
 

@@ -6,7 +6,14 @@ import json
 
 import click
 
-from urdftool.cli import format_option, load_robot, package_option, split_args, stdout_console
+from urdftool.cli import (
+    format_option,
+    load_robot,
+    package_option,
+    split_args,
+    stdout_console,
+    untrusted_options,
+)
 
 
 def tree_data(robot) -> dict:
@@ -30,6 +37,7 @@ def tree_data(robot) -> dict:
 @click.argument("inputs", nargs=-1, required=True, metavar="FILE [NAME:=VALUE...]")
 @format_option("text", "json")
 @package_option
+@untrusted_options
 def command(inputs, fmt, packages):
     """Print the kinematic tree (like check_urdf, prettier)."""
     from urdftool.errors import ToolError

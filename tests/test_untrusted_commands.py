@@ -1,0 +1,75 @@
+"""Every command that loads a file takes ``--untrusted/--trusted`` and follows the same default
+(untrusted when ``CI`` is set): ``limits`` and ``tree`` refuse what ``check`` and ``expand``
+refuse, a xacro that reads an environment variable or a file outside its package."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.conftest import run_urdftool
+
+HEAD = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+# a moving joint whose name carries the payload: limits prints joint names, tree link names
+BODY = """  <link name="base"/>
+  <link name="{name}"/>
+  <joint name="{name}" type="revolute">
+    <parent link="base"/><child link="{name}"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+  </joint>
+</robot>
+"""
+COMMANDS = ["limits", "tree"]
+
+
+def _package(tmp_path):
+    package = tmp_path / "robot_description"
+    (package / "urdf").mkdir(parents=True)
+    (package / "package.xml").write_text("<package><name>robot_description</name></package>")
+    (tmp_path / "secret.yaml").write_text("token: hunter2\n")
+    return package
+
+
+@pytest.fixture
+def env_reader(tmp_path, monkeypatch):
+    monkeypatch.setenv("URDFTOOL_SECRET", "hunter2")
+    path = _package(tmp_path) / "urdf" / "env.urdf.xacro"
+    path.write_text(HEAD + BODY.format(name="j_$(optenv URDFTOOL_SECRET none)"))
+    return path
+
+
+@pytest.fixture
+def file_reader(tmp_path, monkeypatch):
+    path = _package(tmp_path) / "urdf" / "file.urdf.xacro"
+    path.write_text(HEAD + BODY.format(
+        name="j_${xacro.load_yaml('../../secret.yaml')['token']}"))
+    monkeypatch.chdir(path.parent)
+    return path
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_untrusted_env_read_sees_nothing(command, env_reader):
+    trusted = run_urdftool(command, "--trusted", env_reader)
+    assert trusted.code == 0 and "j_hunter2" in trusted.out  # the payload works
+    untrusted = run_urdftool(command, "--untrusted", env_reader)
+    assert untrusted.code == 0, untrusted.err
+    assert "hunter2" not in untrusted.out + untrusted.err and "j_none" in untrusted.out
+    allowed = run_urdftool(command, "--untrusted", "--allow-env", "URDFTOOL_SECRET", env_reader)
+    assert "j_hunter2" in allowed.out
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_untrusted_file_outside_the_package_is_refused(command, file_reader):
+    assert "j_hunter2" in run_urdftool(command, "--trusted", file_reader).out
+    result = run_urdftool(command, "--untrusted", file_reader)
+    assert result.code == 2 and "hunter2" not in result.out + result.err
+    assert "outside the package roots" in result.err and "secret.yaml" in result.err
+    assert len(result.err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_ci_variable_makes_untrusted_the_default(command, env_reader, monkeypatch):
+    monkeypatch.setenv("CI", "true")
+    assert "hunter2" not in run_urdftool(command, env_reader).out
+    assert "j_hunter2" in run_urdftool(command, "--trusted", env_reader).out
+    monkeypatch.setenv("CI", "")
+    assert "j_hunter2" in run_urdftool(command, env_reader).out
