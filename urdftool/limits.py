@@ -7,7 +7,6 @@ range is the interval the follower is driven through when the leader sweeps its 
 Pure Python (no numpy): the ``mimic`` rules import this on every ``urdftool check``.
 """
 
-from __future__ import annotations
 
 import math
 from typing import NamedTuple

@@ -2,13 +2,12 @@
 parsed document and read by every rule and command. Every record keeps where it was written.
 
 The records are ``NamedTuple``s (cheap to define: ``urdftool check`` starts in a pre-commit hook,
-and cheap to build: one ``Loc`` per element); ``Robot`` is a plain class holding its indexes.
+and cheap to build); ``Robot`` is a plain class holding its indexes. No ``from __future__ import
+annotations`` here: ``NamedTuple`` would compile every field's annotation string at import.
 
 Values that do not parse are kept as ``None`` here (the ``schema`` rules report them), so that
 building a model never fails on bad input.
 """
-
-from __future__ import annotations
 
 import math
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -178,7 +177,7 @@ class Robot:
                  "source")
 
     def __init__(self, name: str | None, links: tuple[Link, ...], joints: tuple[Joint, ...],
-                 materials: tuple[Material, ...], source: Source, root: Any = None):
+                 materials: tuple[Material, ...], source: "Source", root: Any = None):
         self.name = name
         self.links = links
         self.joints = joints
@@ -214,11 +213,11 @@ class Robot:
         children = {j.child for j in self.joints}
         return [l.name for l in self.links if l.name is not None and l.name not in children]
 
-    def loc(self, element: etree._Element) -> Loc:
+    def loc(self, element: "etree._Element") -> Loc:
         """Where an element of ``root`` was written."""
         return self.source.loc(element)
 
-    def elements(self, tag: str) -> list[etree._Element]:
+    def elements(self, tag: str) -> "list[etree._Element]":
         """Direct children of <robot> with this tag (e.g. gazebo, transmission)."""
         if self.root is None:
             return []
@@ -269,7 +268,7 @@ def _pose(element) -> Pose:
     return Pose(xyz, rpy)  # type: ignore[arg-type]
 
 
-def _geometry(element, source: Source) -> Geometry:
+def _geometry(element, source: "Source") -> Geometry:
     geometry = _child(element, "geometry")
     shape = None
     if geometry is not None:
@@ -292,7 +291,7 @@ def _geometry(element, source: Source) -> Geometry:
     return Geometry(kind, loc=loc)
 
 
-def _material(element, source: Source) -> Material:
+def _material(element, source: "Source") -> Material:
     color = _child(element, "color")
     texture = _child(element, "texture")
     rgba = parse_vector(color.get("rgba"), 4) if color is not None else None
@@ -300,7 +299,7 @@ def _material(element, source: Source) -> Material:
                     source.loc(element))
 
 
-def _shape(element, source: Source, materials: list[Material]) -> Shape:
+def _shape(element, source: "Source", materials: list[Material]) -> Shape:
     material_name = None
     material = _child(element, "material")
     if material is not None:
@@ -311,7 +310,7 @@ def _shape(element, source: Source, materials: list[Material]) -> Shape:
                  material_name, source.loc(element))
 
 
-def _inertial(element, source: Source) -> Inertial | None:
+def _inertial(element, source: "Source") -> Inertial | None:
     inertial = _child(element, "inertial")
     if inertial is None:
         return None
@@ -328,14 +327,14 @@ def _inertial(element, source: Source) -> Inertial | None:
                     source.loc(inertia) if inertia is not None else None)
 
 
-def _link(element, source: Source, materials: list[Material]) -> Link:
+def _link(element, source: "Source", materials: list[Material]) -> Link:
     visuals = tuple(_shape(c, source, materials) for c in element if c.tag == "visual")
     collisions = tuple(_shape(c, source, materials) for c in element if c.tag == "collision")
     return Link(element.get("name"), _inertial(element, source), visuals, collisions,
                 source.loc(element))
 
 
-def _joint(element, source: Source) -> Joint:
+def _joint(element, source: "Source") -> Joint:
     parent = _child(element, "parent")
     child = _child(element, "child")
     axis = _child(element, "axis")
@@ -374,7 +373,7 @@ def _joint(element, source: Source) -> Joint:
     )
 
 
-def build_robot(source: Source) -> Robot:
+def build_robot(source: "Source") -> Robot:
     """The model of a loaded source. Never raises: a missing or broken document gives an empty
     robot, and the problems recorded while loading are reported by the xml/xacro rules."""
     root = source.root

@@ -4,7 +4,6 @@ Plain records (no dataclasses): this module is imported by every ``urdftool chec
 Formatters return strings; the CLI prints them. Floats in machine output are never rounded.
 """
 
-from __future__ import annotations
 
 import json
 from typing import NamedTuple

@@ -6,7 +6,6 @@ command and the docs are generated from these registrations.
 Adding a rule touches one file: its family's module.
 """
 
-from __future__ import annotations
 
 import importlib
 from collections.abc import Callable, Iterable
