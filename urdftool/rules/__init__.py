@@ -14,6 +14,8 @@ from typing import NamedTuple
 from urdftool.model import Robot
 from urdftool.report import SEVERITIES, Finding
 
+Check = Callable[[Robot], Iterable[Finding]]  # a rule's function (annotations here are evaluated)
+
 FAMILIES = ("xml", "schema", "structure", "joint", "mimic", "inertia", "geometry", "mesh",
             "material", "gazebo", "transmission", "xacro", "sdf")
 
@@ -25,7 +27,7 @@ class Rule(NamedTuple):
     doc: str  # why it matters, what to do
     bad: str  # an example that triggers it
     good: str  # the same example, fixed
-    check: Callable[[Robot], Iterable[Finding]]
+    check: Check
 
     @property
     def family(self) -> str:
@@ -43,7 +45,7 @@ def rule(rule_id: str, severity: str, summary: str, *, doc: str = "", bad: str =
     if severity not in SEVERITIES:
         raise ValueError(f"severity {severity!r} of {rule_id}")
 
-    def register(function: Callable[[Robot], Iterable[Finding]]):
+    def register(function: Check):
         if rule_id in REGISTRY:
             raise ValueError(f"rule {rule_id} registered twice")
         REGISTRY[rule_id] = Rule(rule_id, severity, summary, doc.strip(), bad.strip(),
