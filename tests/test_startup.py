@@ -1,0 +1,71 @@
+"""Start-up of ``urdftool check`` (issue 2): on a primitive-geometry robot it runs in a pre-commit
+hook, so it must not pay for what only other inputs or commands need. Guarded by the modules a
+run imports rather than by wall time, which a loaded CI machine makes meaningless."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import subprocess
+import sys
+
+SMALL = """<?xml version="1.0"?>
+<robot name="small">
+  <link name="base">
+    <inertial><mass value="2"/><inertia ixx="0.03" iyy="0.03" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><geometry><box size="0.3 0.3 0.3"/></geometry></visual>
+    <collision><geometry><box size="0.3 0.3 0.3"/></geometry></collision>
+  </link>
+  <link name="wheel">
+    <inertial><mass value="0.5"/><inertia ixx="0.0007" iyy="0.0007" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><geometry><cylinder radius="0.06" length="0.04"/></geometry></visual>
+    <collision><geometry><cylinder radius="0.06" length="0.04"/></geometry></collision>
+  </link>
+  <joint name="axle" type="continuous"><parent link="base"/><child link="wheel"/>
+    <origin xyz="0 0.2 0" rpy="1.5707963267948966 0 0"/><axis xyz="0 0 1"/>
+    <limit effort="5" velocity="10"/></joint>
+</robot>
+"""
+
+# Each costs start-up time and none is needed to check a plain URDF with primitive shapes.
+UNNEEDED = (
+    # heavy optional dependencies: meshes, kinematics, simulation, symbolic maths, pretty output
+    "numpy", "scipy", "trimesh", "pinocchio", "pybullet", "sympy", "rich",
+    # xacro and SDF inputs
+    "xacro", "yaml", "urdftool.xacro_expand", "urdftool.sandbox", "urdftool.sdf",
+    # importlib.resources pulls in zipfile, tempfile, shutil, bz2, lzma, random (~4 ms)
+    "importlib.resources", "zipfile", "tempfile", "shutil", "bz2", "lzma", "random",
+    # the mesh cache's file names and writes; --jobs; pyproject.toml
+    "hashlib", "multiprocessing", "concurrent.futures",
+    "tomllib" if sys.version_info >= (3, 11) else "tomli",
+)
+
+RUN = """
+import json, sys
+from urdftool.cli import main
+try:
+    main(["check", "--format", "json", sys.argv[1]])
+except SystemExit as exc:
+    with open(sys.argv[2], "w") as out:
+        json.dump([exc.code, sorted(sys.modules)], out)
+"""
+
+
+def test_check_on_a_primitive_robot_imports_nothing_it_does_not_need(tmp_path):
+    robot = tmp_path / "small.urdf"
+    robot.write_text(SMALL, encoding="utf-8")
+    result = tmp_path / "modules.json"
+    done = subprocess.run([sys.executable, "-c", RUN, str(robot), str(result)],
+                          capture_output=True, text=True, check=True, cwd=tmp_path)
+    code, modules = json.loads(result.read_text(encoding="utf-8"))
+    assert code == 0 and json.loads(done.stdout)["summary"] == {
+        "files": 1, "errors": 0, "warnings": 0, "infos": 0}, done.stdout
+    assert "urdftool.rules.inertia" in modules  # the rules did run
+    assert sorted(set(UNNEEDED) & set(modules)) == []
+
+
+def test_the_unneeded_modules_exist():
+    """The guard above could fail: what it forbids is installed (the heavy optional ones come
+    with the test dependencies)."""
+    missing = [m for m in UNNEEDED if importlib.util.find_spec(m) is None]
+    assert missing == []
