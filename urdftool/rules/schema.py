@@ -42,6 +42,10 @@ def schema() -> dict:
             children = {n: _child_spec(c) for n, c in definition.get("children", {}).items()}
             definition["children"] = children
             definition["_required"] = [n for n, c in children.items() if c.get("required")]
+            definition.setdefault("attributes", {})
+            definition["_required_attributes"] = [
+                (n, a) for n, a in definition["attributes"].items()
+                if a.get("required") and not a.get("reported_by")]
         table["_allowed_in"] = _allowed_in(table)
         _schema = table
     return _schema
@@ -153,14 +157,6 @@ def _close_match(name: str, candidates: list[str]) -> str | None:
     return matches[0]
 
 
-def _tag(element) -> str | None:
-    """The plain tag of an element, or None for comments, PIs, namespaced or prefixed tags."""
-    tag = element.tag
-    if not isinstance(tag, str) or tag.startswith("{") or ":" in tag:
-        return None
-    return tag
-
-
 class _Walk:
     """One pass over the document; findings grouped by rule id."""
 
@@ -226,18 +222,21 @@ class _Walk:
         if definition.get("open"):
             return
         tag = element.tag
-        self.check_attributes(element, tag, definition)
+        attributes = element.attrib
+        if attributes or definition["_required_attributes"] or "required_when" in definition:
+            self.check_attributes(element, tag, definition, attributes)
         if definition.get("text"):
             self.check_text(element, tag, definition["text"])
-        self.check_children(element, tag, definition)
+        if len(element) or definition["_required"] or definition.get("shape"):
+            self.check_children(element, tag, definition)
 
-    def check_attributes(self, element, tag: str, definition: dict) -> None:
-        allowed = definition.get("attributes", {})
-        for name, value in element.attrib.items():
-            if name.startswith("{") or ":" in name:
-                continue
+    def check_attributes(self, element, tag: str, definition: dict, attributes) -> None:
+        allowed = definition["attributes"]
+        for name, value in attributes.items():
             spec = allowed.get(name)
             if spec is None:
+                if name.startswith("{") or ":" in name:
+                    continue
                 if not definition.get("open_attributes"):
                     self.unknown_attribute(element, tag, name, allowed)
                 continue
@@ -245,18 +244,20 @@ class _Walk:
                 self.check_since(spec, f"attribute {name!r} of <{tag}>",
                                  lambda name=name: self.attr_loc(element, name))
             self.check_value(element, tag, name, value, spec)
-        for name, spec in allowed.items():
-            if spec.get("required") and name not in element.attrib and not spec.get("reported_by"):
+        for name, spec in definition["_required_attributes"]:
+            if name not in attributes:
                 self.missing_attribute(element, tag, name, spec)
         for group in definition.get("exclusive", ()):
-            given = [name for name in group if name in element.attrib]
+            given = [name for name in group if name in attributes]
             if len(given) > 1:
                 self.add("schema.bad-value",
                          f"<{tag}> gives both {' and '.join(given)}: urdfdom rejects it "
                          "(use one or the other)", lambda g=given: self.attr_loc(element, g[-1]),
                          hint=f"remove {given[-1]}= or {given[0]}=")
+        if "required_when" not in definition:
+            return
         parent = element.getparent()
-        for condition in definition.get("required_when", ()):
+        for condition in definition["required_when"]:
             needed = _version_tuple(condition["since"])
             if self.version is None or needed is None or self.version < needed:
                 continue
@@ -296,6 +297,12 @@ class _Walk:
 
     def check_value(self, element, tag: str, name: str, value: str, spec: dict) -> None:
         kind = spec.get("type", "string")
+        if kind == "string" or (kind == "float" and _NUMBER_RE.fullmatch(value.lstrip())):
+            return  # the common cases, without building the message parts
+        if kind in ("vec3", "vec4"):
+            parts = value.split()
+            if len(parts) == (3 if kind == "vec3" else 4) and all(map(_NUMBER_RE.fullmatch, parts)):
+                return
         where = f"{name}={value!r} on <{tag}>"
 
         def loc() -> Loc:
@@ -370,9 +377,9 @@ class _Walk:
         counts: Counter[str] = Counter()
         first_shape = None
         for child in element:
-            child_tag = _tag(child)
-            if child_tag is None:
-                if shape and first_shape is None and isinstance(child.tag, str):
+            child_tag = child.tag
+            if not isinstance(child_tag, str) or child_tag.startswith("{") or ":" in child_tag:
+                if shape and first_shape is None and isinstance(child_tag, str):
                     first_shape = child  # urdfdom takes the first element, whatever it is
                 continue
             spec = children.get(child_tag)

@@ -166,13 +166,6 @@ def _in_foreign_block(element) -> bool:
     return False
 
 
-def _plain_tag(element) -> str | None:
-    """The tag of an element written without a namespace prefix, else None."""
-    if not isinstance(element.tag, str) or element.tag.startswith("{"):
-        return None
-    return element.tag
-
-
 def _start_tag(robot: Robot, element) -> str | None:
     """The element's start tag as written in its source file, or None."""
     loc = robot.loc(element)
@@ -244,9 +237,9 @@ def unprefixed_tag(robot: Robot):
 def _unprefixed_tags(robot: Robot):
     if robot.root is None or robot.root.tag != "robot":
         return
-    for element in robot.root.iter():
-        tag = _plain_tag(element)
-        if tag not in XACRO_TAGS or element is robot.root or _in_foreign_block(element):
+    for element in robot.root.iter(*XACRO_TAGS):  # without a namespace: unprefixed
+        tag = element.tag
+        if element is robot.root or _in_foreign_block(element):
             continue
         if tag == "include" and _is_sdf_include(element):
             continue
@@ -353,9 +346,14 @@ def _unprefixed_calls(robot: Robot):
     """(element, file defining the macro) for each macro called without the xacro: prefix."""
     if robot.root is None or robot.root.tag != "robot":
         return
-    candidates = [e for e in robot.root.iter()
-                  if _plain_tag(e) and e is not robot.root and _plain_tag(e) not in XACRO_TAGS
-                  and _plain_tag(e) not in URDF_ELEMENTS and not _in_foreign_block(e)]
+    candidates = []
+    for element in robot.root.iter():
+        tag = element.tag
+        if (not isinstance(tag, str) or tag.startswith("{") or tag in XACRO_TAGS
+                or tag in URDF_ELEMENTS or element is robot.root):
+            continue
+        if not _in_foreign_block(element):
+            candidates.append(element)
     if not candidates:
         return
     macros = macro_names(robot)
