@@ -284,6 +284,11 @@ def capsule_solid(radius: float, length: float) -> Solid:
 _RIM_SAMPLES = 256
 _RIM_TABLE = [(math.cos(t), math.sin(t), math.cos(2 * t), math.sin(2 * t))
               for t in (2.0 * math.pi * k / _RIM_SAMPLES for k in range(_RIM_SAMPLES))]
+# the samples in blocks of 16, each probed at its middle sample (at most 8 steps from the others)
+_RIM_BLOCK = 16
+_RIM_BLOCKS = [_RIM_TABLE[k:k + _RIM_BLOCK] for k in range(0, _RIM_SAMPLES, _RIM_BLOCK)]
+_RIM_PROBES = [block[_RIM_BLOCK // 2] for block in _RIM_BLOCKS]
+_RIM_REACH = _RIM_BLOCK // 2 * 2.0 * math.pi / _RIM_SAMPLES  # probe to the farthest sample, rad
 
 
 def _perp(v: Vec3, axis: Vec3) -> Vec3:
@@ -304,7 +309,19 @@ def _rim_max(centre: Vec3, a: Vec3, b: Vec3, radius: float, origin: Vec3, axis: 
     c0 = dot(w, w) + r2 * (dot(ap, ap) + dot(bp, bp)) / 2.0
     c1, s1 = 2.0 * radius * dot(w, ap), 2.0 * radius * dot(w, bp)
     c2, s2 = r2 * (dot(ap, ap) - dot(bp, bp)) / 2.0, r2 * dot(ap, bp)
-    best = max(c0 + c1 * c + s1 * s + c2 * cc + s2 * ss for c, s, cc, ss in _RIM_TABLE)
+    coefficients = (c0, c1, s1, c2, s2)
+    if all(math.isfinite(x) for x in coefficients):
+        # the largest sample, evaluated only in the blocks that may hold it: within a block,
+        # f moves at most |f'|max times the distance from its probe (plus rounding)
+        probes = [c0 + c1 * c + s1 * s + c2 * cc + s2 * ss for c, s, cc, ss in _RIM_PROBES]
+        top = max(probes)
+        slack = ((abs(c1) + abs(s1) + 2.0 * (abs(c2) + abs(s2))) * _RIM_REACH
+                 + 1e-9 * sum(abs(x) for x in coefficients))
+        best = max(top, *(c0 + c1 * c + s1 * s + c2 * cc + s2 * ss
+                          for probe, block in zip(probes, _RIM_BLOCKS) if probe + slack >= top
+                          for c, s, cc, ss in block))
+    else:
+        best = max(c0 + c1 * c + s1 * s + c2 * cc + s2 * ss for c, s, cc, ss in _RIM_TABLE)
     # the maximum is a critical point (f' = 0) within half a step of a sample, so sampling
     # misses at most |f''|max (step / 2)^2 / 2
     curvature = abs(c1) + abs(s1) + 4.0 * (abs(c2) + abs(s2))
