@@ -252,3 +252,84 @@ def test_untrusted_input_does_not_read_meshes_found_by_directory_name(tmp_path):
     assert mesh_findings("--trusted") == []
     (message,) = mesh_findings("--untrusted")
     assert "outside-the-package-roots" in message
+
+
+# -- the direct readers and the hull's input (issue 2: a faster cold path) ------------------
+
+
+def corpus_meshes(suffix: str, count: int) -> list:
+    """``count`` mesh files of the installed corpora with this suffix."""
+    from tests.conftest import example_robot_data_dir, pybullet_data_dir
+
+    found = sorted(p for base in (pybullet_data_dir(), example_robot_data_dir())
+                   for p in base.rglob(f"*{suffix}") if "random_urdfs" not in p.parts)
+    return found[::max(1, len(found) // count)][:count]
+
+
+def test_binary_stl_is_read_as_trimesh_reads_it(tmp_path):
+    paths = corpus_meshes(".stl", 12)
+    trimesh.creation.icosphere().export(tmp_path / "sphere.stl")
+    for path in [*paths, tmp_path / "sphere.stl"]:
+        vertices, faces = meshes._binary_stl(path)
+        theirs = trimesh.load(path, force="mesh", process=False)
+        assert np.array_equal(np.asarray(vertices, dtype=float), theirs.vertices), path
+        assert np.array_equal(faces, theirs.faces), path
+    # not a binary STL: trimesh's business (ASCII, a wrong length, no triangles)
+    (tmp_path / "ascii.stl").write_bytes(trimesh.exchange.stl.export_stl_ascii(
+        trimesh.creation.box()).encode())
+    (tmp_path / "cut.stl").write_bytes((tmp_path / "sphere.stl").read_bytes()[:-10])
+    (tmp_path / "none.stl").write_bytes(bytes(80) + (0).to_bytes(4, "little"))
+    (tmp_path / "tiny.stl").write_bytes(b"solid")
+    for name in ("ascii.stl", "cut.stl", "none.stl", "tiny.stl"):
+        assert meshes._binary_stl(tmp_path / name) is None, name
+
+
+def test_distinct_points_keep_first_occurrences_in_order():
+    rng = np.random.default_rng(3)
+    base = rng.normal(size=(50, 3))
+    vertices = np.vstack([base, base[::-1], base[:7], [[0.0, 0.0, 0.0], [-0.0, 0.0, 0.0]]])
+    points, index = meshes._distinct(vertices)
+    assert np.array_equal(points[index], vertices)  # bitwise: -0.0 stays -0.0
+    assert np.array_equal(points[:50], base) and len(points) == 52
+    # two rows whose hashes collide: every row is kept, never two different points merged
+    p1, p2 = 0x9E3779B97F4A7C15, 0xC2B2AE3D27D4EB4F  # the multipliers of x and y
+    x = 0x3FF0000000000001
+    y = x * p1 * pow(p2, -1, 1 << 64) % (1 << 64)  # y * p2 == x * p1 (mod 2**64)
+    colliding = np.array([[x, 0, 0], [0, y, 0]], dtype=np.uint64).view(float)
+    points, index = meshes._distinct(colliding)
+    assert len(points) == 2 and np.array_equal(points[index].view(np.uint64),
+                                               colliding.view(np.uint64))
+
+
+@pytest.mark.parametrize("suffix", [".stl", ".obj", ".dae"])
+def test_corpus_mass_properties_match_trimesh(suffix):
+    """Volume, centroid and inertia of real meshes against trimesh's own (merged vertices,
+    unit density); open meshes: their convex hull against trimesh's convex hull."""
+    from urdftool.physics.inertia import tensor_from_second_moment
+
+    checked = {"closed": 0, "hull": 0}
+    for path in corpus_meshes(suffix, 40):
+        if meshes._collada_frame(path) != (1.0, None):
+            continue  # trimesh ignores COLLADA units and up axes
+        info = meshes._load(path, need_volume=True)
+        if not info.ok or info.solid is None:
+            continue
+        vertices, faces, _ = meshes._read(path)  # the reading is tested above
+        theirs = trimesh.Trimesh(vertices, faces)  # trimesh's own merge, volume and inertia
+        if not info.used_hull:
+            checked["closed"] += 1
+            volume = abs(theirs.volume)
+            sign = 1.0 if theirs.volume > 0 else -1.0
+            inertia = sign * np.asarray(theirs.moment_inertia)
+        else:
+            checked["hull"] += 1
+            hull = theirs.convex_hull
+            volume, inertia = hull.volume, np.asarray(hull.moment_inertia)
+            theirs = hull
+        scale = np.abs(inertia).max()
+        assert info.solid.volume == pytest.approx(volume, rel=1e-9), path
+        np.testing.assert_allclose(info.solid.centroid, theirs.center_mass, rtol=1e-9,
+                                   atol=1e-9 * np.ptp(theirs.bounds, axis=0).max())
+        np.testing.assert_allclose(tensor_from_second_moment(info.solid.second), inertia,
+                                   rtol=1e-9, atol=1e-9 * scale)
+    assert checked["closed"] >= 3 and checked["hull"] >= 1, checked

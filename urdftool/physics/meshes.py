@@ -193,32 +193,55 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
     if not path.is_file():
         return MeshInfo(str(path), error="no such file")
     import numpy as np
-    import trimesh
 
     LOADS += 1
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            mesh = _read(path)
-            if _empty(mesh) and path.suffix.lower() == ".dae":
-                mesh = _load_collada_geometry_only(path)
+            triangles = _read(path)
     except Exception as exc:  # noqa: BLE001 - any parser failure is a finding, not a crash
         return MeshInfo(str(path), error=f"{type(exc).__name__}: {exc}".strip())
-    if not isinstance(mesh, trimesh.Trimesh) or _empty(mesh):
+    if triangles is None:
         return MeshInfo(str(path), error="no triangles in it")
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore")
-        return _summarise(path, mesh, need_volume)
+        return _summarise(path, *triangles, need_volume)
 
 
 def _read(path: Path):
-    """The file's triangles as one mesh (scene graph transforms applied), without merging
-    vertices and without reading textures (an open file has no resolver for them)."""
+    """(vertices, faces, the trimesh mesh or None) of the file's triangles as one mesh (scene
+    graph transforms applied), without merging vertices and without reading textures (an open
+    file has no resolver for them); None when it has no triangles."""
+    if path.suffix.lower() == ".stl":
+        stl = _binary_stl(path)
+        if stl is not None:
+            return (*stl, None)
     import trimesh
 
     with path.open("rb") as handle:
-        return trimesh.load(handle, file_type=path.suffix.lower().lstrip("."), force="mesh",
+        mesh = trimesh.load(handle, file_type=path.suffix.lower().lstrip("."), force="mesh",
                             process=False, skip_materials=True)
+    if _empty(mesh) and path.suffix.lower() == ".dae":
+        mesh = _load_collada_geometry_only(path)
+    return None if _empty(mesh) else (mesh.vertices, mesh.faces, mesh)
+
+
+_STL_RECORD = [("normal", "<f4", (3,)), ("vertices", "<f4", (3, 3)), ("attribute", "<u2")]
+
+
+def _binary_stl(path: Path):
+    """(vertices, faces) of a binary STL (an 80-byte header, a triangle count, 50-byte
+    records) read directly: 3x faster than trimesh's loader, with the same vertices
+    (float32 corners, unmerged). None for anything else (ASCII STL, a wrong length, no
+    triangles): trimesh then reads or rejects it."""
+    import numpy as np
+
+    data = path.read_bytes()
+    count = int.from_bytes(data[80:84], "little") if len(data) >= 84 else 0
+    if count == 0 or len(data) != 84 + 50 * count:
+        return None
+    records = np.frombuffer(data, dtype=np.dtype(_STL_RECORD), count=count, offset=84)
+    return records["vertices"].reshape(-1, 3), np.arange(3 * count).reshape(-1, 3)
 
 
 def _empty(mesh) -> bool:
@@ -251,6 +274,26 @@ def _solid(props, sign: float = 1.0) -> Solid | None:
                  tuple(tuple(float(x) for x in row) for row in second))  # type: ignore[arg-type]
 
 
+def _distinct(vertices):
+    """(the distinct rows of ``vertices`` in order of first occurrence, each row's index among
+    them), by bitwise equality: a hash of the coordinates' bits, sorted, then checked (a
+    collision keeps every row). An STL repeats each corner ~6 times: qhull then takes half the
+    time, and the hull is the same point set (support values agree to 1e-16 on the corpus;
+    only the order of the points, and so of qhull's work, changes)."""
+    import numpy as np
+
+    bits = np.ascontiguousarray(vertices).view(np.uint64)
+    key = (bits[:, 0] * np.uint64(0x9E3779B97F4A7C15)) ^ \
+        (bits[:, 1] * np.uint64(0xC2B2AE3D27D4EB4F)) ^ (bits[:, 2] * np.uint64(0x165667B19E3779F9))
+    _, first, group = np.unique(key, return_index=True, return_inverse=True)
+    if not np.array_equal(bits[first[group]], bits):
+        return vertices, np.arange(len(vertices))
+    order = np.argsort(first)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    return vertices[first[order]], rank[group.ravel()]
+
+
 def _hull(vertices):
     """(hull vertices, oriented hull triangles) by qhull; (unique vertices, None) when the
     points span no volume (a flat or degenerate mesh)."""
@@ -268,21 +311,29 @@ def _hull(vertices):
     return vertices[hull.vertices], triangles
 
 
-def _summarise(path: Path, mesh, need_volume: bool) -> MeshInfo:
+def _summarise(path: Path, vertices, faces, mesh, need_volume: bool) -> MeshInfo:
+    """The summary of a file's triangles; ``mesh`` is trimesh's (with what it read beside the
+    triangles), or None when the file was read directly."""
     import numpy as np
-    from trimesh.triangles import mass_properties
 
     unit, up_rotation = _collada_frame(path)
-    vertices = np.asarray(mesh.vertices, dtype=float) * unit
-    faces = np.asarray(mesh.faces)
+    vertices = np.asarray(vertices, dtype=float) * unit
+    faces = np.asarray(faces)
     lower = tuple(float(x) for x in vertices.min(axis=0))
     upper = tuple(float(x) for x in vertices.max(axis=0))
-    hull_points, hull_triangles = _hull(vertices)
+    points, index = _distinct(vertices)
+    hull_points, hull_triangles = _hull(points)
     info = {"path": str(path), "hull": hull_points, "lower": lower, "upper": upper,
             "faces": len(faces), "up_rotation": up_rotation}
     if not need_volume:
         return MeshInfo(**info)  # type: ignore[arg-type]
-    mesh.vertices = vertices
+    import trimesh
+    from trimesh.triangles import mass_properties
+
+    if mesh is None:  # no texture coordinates to keep apart: merging distinct points is the same
+        mesh = trimesh.Trimesh(points, index[faces], process=False)
+    else:
+        mesh.vertices = vertices
     mesh.merge_vertices()  # STL repeats every vertex: merge before asking about topology
     watertight = bool(mesh.is_watertight) and bool(mesh.is_winding_consistent)
     solid = None
