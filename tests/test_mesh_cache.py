@@ -172,6 +172,16 @@ def test_an_unusable_cache_directory_falls_back_to_loading(tmp_path, monkeypatch
     (entry / "sub").mkdir(parents=True)
     assert check_json(path) == (expected, 1)
     assert check_json(path) == (expected, 1)
+    # no home directory to put it in
+    monkeypatch.delenv("URDFTOOL_CACHE_DIR")
+    monkeypatch.delenv("XDG_CACHE_HOME", raising=False)
+
+    def no_home():
+        raise RuntimeError("Could not determine home directory.")
+
+    monkeypatch.setattr(Path, "home", no_home)
+    assert check_json(path) == (expected, 1)
+    assert check_json(path) == (expected, 1)
 
 
 def test_no_cache_reads_and_writes_nothing(tmp_path):

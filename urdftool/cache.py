@@ -77,7 +77,7 @@ def read(kind: str, key: dict):
                 or len(data) - end - 1 != 8 * count:
             return None
         return header, np.frombuffer(data, dtype="<f8", offset=end + 1)
-    except (OSError, ValueError, UnicodeDecodeError, RecursionError):
+    except (OSError, ValueError, RecursionError, RuntimeError):  # RuntimeError: no home directory
         return None
 
 
@@ -89,10 +89,10 @@ def write(kind: str, key: dict, header: dict, values) -> None:
     import numpy as np
 
     values = np.ascontiguousarray(values, dtype="<f8").ravel()
-    target = _entry(kind, key)
     temp = None
     try:
         text = json.dumps({"key": key, "data": header, "values": int(values.size)})
+        target = _entry(kind, key)
         target.parent.mkdir(parents=True, exist_ok=True)
         fd, temp = tempfile.mkstemp(prefix=".tmp-", dir=target.parent)
         with os.fdopen(fd, "wb") as handle:
@@ -100,7 +100,7 @@ def write(kind: str, key: dict, header: dict, values) -> None:
             handle.write(values.tobytes())
         os.replace(temp, target)
         temp = None
-    except (OSError, ValueError, TypeError):
+    except (OSError, ValueError, TypeError, RuntimeError):  # RuntimeError: no home directory
         pass
     finally:
         if temp is not None:
