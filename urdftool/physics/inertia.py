@@ -440,6 +440,17 @@ def _closest_on_simplex(points: list[Vec3]) -> tuple[Vec3, list[Vec3]]:
         bx, by, bz = base
         if len(indices) == 1:
             point = base
+        elif len(indices) == 2:  # a segment: _solve's one-unknown case, written out
+            p = points[indices[1]]
+            ex, ey, ez = p[0] - bx, p[1] - by, p[2] - bz
+            g = ex * ex + ey * ey + ez * ez
+            scale = abs(g)
+            if scale == 0.0 or scale <= 1e-12 * scale:
+                continue
+            w = -(ex * bx + ey * by + ez * bz) / g
+            if w < -1e-12 or w > 1 + 1e-12:
+                continue
+            point = (bx + ex * w, by + ey * w, bz + ez * w)
         else:
             edges = [(p[0] - bx, p[1] - by, p[2] - bz) for p in (points[i] for i in indices[1:])]
             # minimise |base + sum w_i e_i|: Gram system G w = -E^T base
