@@ -7,6 +7,8 @@ failed check, 2 the tool could not do its job (one line on stderr, no traceback)
 
 from __future__ import annotations
 
+import atexit
+import gc
 import importlib
 import os
 import sys
@@ -15,6 +17,11 @@ import click
 
 from urdftool import __version__
 from urdftool.errors import ToolError
+
+# At exit the interpreter's last garbage collections walk every object of the process (lxml,
+# click, the rules...): ~10 ms of a ~65 ms `urdftool check` (issue 2), to free memory the OS frees
+# anyway. Frozen objects are skipped; files are closed by their `with` blocks, stdout is flushed.
+atexit.register(gc.freeze)
 
 COMMANDS = {
     "check": "lint robot files; all findings in one pass",
