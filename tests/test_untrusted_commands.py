@@ -5,8 +5,7 @@ refuse, a xacro that reads an environment variable or a file outside its package
 from __future__ import annotations
 
 import pytest
-
-from tests.conftest import run_urdftool
+from conftest import run_urdftool
 
 HEAD = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
 # a moving joint whose name carries the payload: limits prints joint names, tree link names

@@ -4,8 +4,11 @@ broken, makes repair() raise, hang, or move a line."""
 
 from __future__ import annotations
 
+import json
 import random
 import re
+import subprocess
+import sys
 import time
 
 import pytest
@@ -87,6 +90,40 @@ def test_fast_path_is_one_strict_parse_and_no_scan(corpus, monkeypatch):
         parses.clear()
         fixed, problems = repair(text, str(path))
         assert (fixed, problems, len(parses)) == (text, [], 1), path
+
+
+def test_import_and_well_formed_files_need_no_regex_nor_difflib(corpus):
+    """Importing xmlrepair (every ``check``) compiles nothing; a well-formed file, with or
+    without one of the usual declarations, compiles no regular expression and does not import
+    difflib or bisect (the repair's tools: built on the first malformed file)."""
+    texts = [t for _, t in corpus if _wellformed(t)][:40]
+    texts += [f'{d}\n<robot name="r"><link name="a"/></robot>\n'
+              for d in xmlrepair._USUAL_DECLARATIONS]
+    assert any(t.startswith("<?xml") for t in texts[:40]) and any(t.startswith("<robot") for t in texts)
+    script = (
+        "import json, sys\n"
+        "import urdftool.xmlrepair as x\n"
+        "before = sorted(vars(x._RE))\n"
+        "results = [x.repair(t, 'f.urdf') == (t, []) for t in json.load(sys.stdin)]\n"
+        "print(json.dumps([before, sorted(vars(x._RE)), all(results),"
+        " [m for m in ('difflib', 'bisect') if m in sys.modules]]))\n")
+    done = subprocess.run([sys.executable, "-c", script], input=json.dumps(texts),
+                          capture_output=True, text=True, check=True)
+    assert json.loads(done.stdout) == [[], [], True, []]
+    # and the repair of a broken file builds what it needs
+    _, problems = repair('<robot name="r">\n<link name=a/>\n</robot>\n', "f.urdf")
+    assert [r for r, _ in problems] == ["xml.bad-attribute"] and "name" in vars(xmlrepair._RE)
+
+
+@pytest.mark.parametrize("declaration", xmlrepair._USUAL_DECLARATIONS)
+def test_usual_declarations_are_what_the_full_check_accepts(declaration):
+    match = xmlrepair._RE.good_declaration.fullmatch(declaration)
+    assert match and match.group(2) == "1.0"
+    text = declaration + '\n<robot name="r"><link name="a"/></robot>\n'
+    assert _wellformed(text)
+    if "encoding" in declaration:  # the rewrite the shortcut skips would change nothing
+        rewritten = xmlrepair._RE.encoding_declaration.sub(r"\1\2UTF-8\2", text, count=1)
+        assert rewritten.lower() == text.lower()
 
 
 def _wellformed(text: str) -> bool:

@@ -22,11 +22,8 @@ How it works:
 
 from __future__ import annotations
 
-import bisect
-import difflib
 import re
 from collections import deque
-from dataclasses import dataclass, field
 
 from lxml import etree
 
@@ -37,28 +34,52 @@ MAX_REPAIRS = 200  # recognised breakages per file; then stop and let the parser
 MAX_ROUNDS = 8  # scan -> edit -> strict parse rounds
 SIMILAR_DEPTH = 50  # open elements an end tag with a typo may have meant (innermost first)
 
-_GOOD_DECL_RE = re.compile(
-    r"""<\?xml\s+version\s*=\s*(["'])([^"'\n<>?]*)\1(?:\s+encoding\s*=\s*(["'])[A-Za-z][-\w.]*\3)?"""
-    r"""(?:\s+standalone\s*=\s*(["'])(?:yes|no)\4)?\s*\?>""")
-_ENCODING_DECL_RE = re.compile(r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2")
-_NAME_RE = re.compile(r"[^\W\d][-\w.:]*")
 _SPACE = " \t\r\n"
-_BAD_CHARS_RE = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ufffe\uffff\ud800-\udfff]+")
-_ENTITY_RE = re.compile(r"&(?:#[0-9]+|#x[0-9a-fA-F]+|([^\W\d][-\w.:]*));")
 _PREDEFINED_ENTITIES = {"amp", "lt", "gt", "quot", "apos"}
-_ATTR_RE = re.compile(r"([^\W\d][-\w.:]*)\s*=\s*(\"[^\"]*\"|'[^']*')")
-# A line of text that is a tag without its '<': 'link name="a">', 'imit effort="1"/>',
-# '/link>'. Only text at the start of a line is considered.
-_TAGLIKE_RE = re.compile(
-    r"""^[ \t]*(?P<slash>/)?(?P<name>[^\s<>"'=/&]+)"""
-    r"""(?P<attrs>(?:\s+[^\W\d][-\w.:]*\s*=\s*(?:"[^"<]*"|'[^'<]*'))*)"""
-    r"""\s*(?P<close>/?>)[ \t]*(?=\r?\n|$)""", re.MULTILINE)
-# Fast-path filter for _TAGLIKE_RE in a well-formed file (a superset: what it finds is confirmed
-# by the scanner): lines with a '>' and no '<' (cheap), then a closer look at their start.
-# Continuation lines of multi-line tags start with 'attr=' and do not pass the closer look.
-_GT_LINE_RE = re.compile(r"\n[^<\n]*>")
-_TAGLIKE_HINT_RE = re.compile(
-    r"""\n[ \t]*(?:[^\s<>"'=/&]+[ \t]+[^\W\d][-\w.:]*[ \t]*=[ \t]*["']|/?[^\W\d][-\w.:]*[ \t]*/?>)""")
+# XML 1.0 declarations as most files write them: nothing to check (and no regex to compile)
+_USUAL_DECLARATIONS = tuple(f"<?xml version={q}1.0{q}{encoding}{space}?>" for q in "\"'"
+                            for encoding in ("", f" encoding={q}UTF-8{q}", f" encoding={q}utf-8{q}")
+                            for space in ("", " "))
+_UTF8_DECLARATIONS = tuple(d for d in _USUAL_DECLARATIONS if "encoding" in d)
+
+
+# The regular expressions, by name; ``_RE.<name>`` compiles one on first use.
+_PATTERNS = {
+    "good_declaration": (r"""<\?xml\s+version\s*=\s*(["'])([^"'\n<>?]*)\1"""
+                         r"""(?:\s+encoding\s*=\s*(["'])[A-Za-z][-\w.]*\3)?"""
+                         r"""(?:\s+standalone\s*=\s*(["'])(?:yes|no)\4)?\s*\?>"""),
+    "encoding_declaration": r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2",
+    "name": r"[^\W\d][-\w.:]*",
+    "bad_chars": "[\x00-\x08\x0b\x0c\x0e-\x1f\ufffe\uffff\ud800-\udfff]+",
+    "entity": r"&(?:#[0-9]+|#x[0-9a-fA-F]+|([^\W\d][-\w.:]*));",
+    "attribute": r"([^\W\d][-\w.:]*)\s*=\s*(\"[^\"]*\"|'[^']*')",
+    # A line of text that is a tag without its '<': 'link name="a">', 'imit effort="1"/>',
+    # '/link>'. Only text at the start of a line is considered.
+    "taglike": (r"""(?m)^[ \t]*(?P<slash>/)?(?P<name>[^\s<>"'=/&]+)"""
+                r"""(?P<attrs>(?:\s+[^\W\d][-\w.:]*\s*=\s*(?:"[^"<]*"|'[^'<]*'))*)"""
+                r"""\s*(?P<close>/?>)[ \t]*(?=\r?\n|$)"""),
+    # Fast-path filter for "taglike" in a well-formed file (a superset: what it finds is confirmed
+    # by the scanner): lines with a '>' and no '<' (cheap), then a closer look at their start.
+    # Continuation lines of multi-line tags start with 'attr=' and do not pass the closer look.
+    "gt_line": r"\n[^<\n]*>",
+    "taglike_hint": (r"""\n[ \t]*(?:[^\s<>"'=/&]+[ \t]+[^\W\d][-\w.:]*[ \t]*=[ \t]*["']"""
+                     r"""|/?[^\W\d][-\w.:]*[ \t]*/?>)"""),
+}
+
+
+class _Patterns:
+    """``_PATTERNS``, each compiled on first use: importing this module (every ``check``)
+    compiles nothing, and a well-formed file needs none of them."""
+
+    def __getattr__(self, name: str) -> re.Pattern:
+        if name not in _PATTERNS:
+            raise AttributeError(name)
+        pattern = re.compile(_PATTERNS[name])
+        setattr(self, name, pattern)  # found directly from now on
+        return pattern
+
+
+_RE = _Patterns()
 
 # What URDF allows where: used to name the element a broken tag most likely was (did-you-mean)
 # and to decide where an unclosed element ends. Keys are "parent/child" for context-dependent
@@ -109,8 +130,8 @@ def secure_parser(recover: bool = False) -> etree.XMLParser:
 
 def _xml_bytes(text: str) -> bytes:
     """The text as UTF-8 bytes with any encoding declaration made to agree."""
-    if "encoding" in text[:300]:
-        text = _ENCODING_DECL_RE.sub(r"\1\2UTF-8\2", text, count=1)
+    if "encoding" in text[:300] and not text.startswith(_UTF8_DECLARATIONS):
+        text = _RE.encoding_declaration.sub(r"\1\2UTF-8\2", text, count=1)
     return text.encode("utf-8", "surrogatepass")
 
 
@@ -127,17 +148,19 @@ def _strict_parse(text: str):
 def _fix_declaration(text: str, path: str, problems: list) -> tuple[str, dict]:
     """Repair the XML declaration at the start of the file (version other than 1.0, or damaged);
     returns the text and the column shifts of the edit (see ``_apply``)."""
+    if text.startswith(_USUAL_DECLARATIONS):
+        return text, {}
     head = len(text) - len(text.lstrip())
     if not text.startswith("<?", head):
         return text, {}
     line_end = text.find("\n", head)
     first = text[head:line_end if line_end >= 0 else len(text)]
     target = re.match(r"<\?([^\s?>]*)", first).group(1)
-    if target.lower() != "xml" and ("version" not in first or _NAME_RE.fullmatch(target)
+    if target.lower() != "xml" and ("version" not in first or _RE.name.fullmatch(target)
                                     and _similar(target, "xml") < 0.6):
         return text, {}  # another processing instruction
     line = text.count("\n", 0, head) + 1
-    good = _GOOD_DECL_RE.match(text, head)
+    good = _RE.good_declaration.match(text, head)
     if good is None:
         question, gt = first.find("?>"), first.find(">")
         end = head + (question + 2 if question >= 0 else gt + 1 if gt >= 0 else len(first.rstrip()))
@@ -179,6 +202,8 @@ def _attrs(text: str) -> str:
 
 
 def _similar(a: str, b: str) -> float:
+    import difflib  # only a malformed file needs it
+
     return difflib.SequenceMatcher(None, a.lower(), b.lower()).ratio()
 
 
@@ -199,26 +224,35 @@ def _suggest(name: str, attributes: list[str], candidates) -> str | None:
     return best
 
 
-@dataclass
 class _Problem:
-    rule: str
-    message: str
-    offset: int  # in the text of the round that found it
-    hint: str | None = None
-    anchor: tuple[int, str] | None = None  # (offset of the element's '<', its name) for the xpath
-    severity: str | None = None
+    __slots__ = ("anchor", "hint", "message", "offset", "rule", "severity")
+
+    def __init__(self, rule: str, message: str, offset: int, hint: str | None = None,
+                 anchor: tuple[int, str] | None = None, severity: str | None = None):
+        self.rule = rule
+        self.message = message
+        self.offset = offset  # in the text of the round that found it
+        self.hint = hint
+        self.anchor = anchor  # (offset of the element's '<', its name) for the xpath
+        self.severity = severity
 
 
-@dataclass
 class _Open:
-    name: str
-    start: int  # offset of '<'
-    tag_end: int  # offset just after '>'
-    prefixes: set = field(default_factory=set)  # namespace prefixes in scope here (inherited)
-    children: deque = field(default_factory=deque)  # (name, start offset)
-    first_text: tuple[int, int] | None = None  # non-blank text before the first child
-    reopened: bool = False
-    gt_inserted: bool = False  # its '>' is a repair (so there is no '>' at tag_end - 1)
+    """An element open on the scanner's stack."""
+
+    __slots__ = ("children", "first_text", "gt_inserted", "name", "prefixes", "reopened", "start",
+                 "tag_end")
+
+    def __init__(self, name: str, start: int, tag_end: int, prefixes: set,
+                 children: deque | None = None):
+        self.name = name
+        self.start = start  # offset of '<'
+        self.tag_end = tag_end  # offset just after '>'
+        self.prefixes = prefixes  # namespace prefixes in scope here (inherited)
+        self.children = deque() if children is None else children  # (name, start offset)
+        self.first_text: tuple[int, int] | None = None  # non-blank text before the first child
+        self.reopened = False
+        self.gt_inserted = False  # its '>' is a repair (so there is no '>' at tag_end - 1)
 
 
 class _Scanner:
@@ -245,7 +279,7 @@ class _Scanner:
     def line_of(self, offset: int) -> int:
         if self._line_starts is None:
             self._line_starts = _line_starts(self.t)
-        return bisect.bisect_right(self._line_starts, offset)
+        return _line_number(self._line_starts, offset)
 
     def edit(self, start: int, end: int, replacement: str, first: bool = False,
              opening: bool = False) -> None:
@@ -319,7 +353,7 @@ class _Scanner:
             return self.processing_instruction(j)
         if t.startswith("</", j):
             return self.end_tag(j)
-        match = _NAME_RE.match(t, j + 1)
+        match = _RE.name.match(t, j + 1)
         if match:
             return self.start_tag(j, match)
         spaced = re.compile(r"<[ \t]+([^\W\d][-\w.:]*)").match(t, j)
@@ -327,7 +361,7 @@ class _Scanner:
             self.report("xml.bad-tag", f"space between '<' and the tag name '{spaced.group(1)}'",
                         j, hint=f"write <{spaced.group(1)} without the space")
             self.edit(j + 1, spaced.start(1), "")
-            name_match = _NAME_RE.match(t, spaced.start(1))
+            name_match = _RE.name.match(t, spaced.start(1))
             return self.start_tag(j, name_match)
         self.report("xml.bad-entity", "a '<' that starts no tag", j,
                     hint="write &lt; for a literal '<', or complete the tag",
@@ -483,7 +517,7 @@ class _Scanner:
                 selfclose, tag_end = close == "/>", last_end
                 self.gt_inserted = True
                 break
-            attribute = _NAME_RE.match(t, k)
+            attribute = _RE.name.match(t, k)
             if not attribute:
                 self.report("xml.bad-tag", f"unexpected {c!r} inside the <{name}> tag", k,
                             hint="remove it")
@@ -588,7 +622,7 @@ class _Scanner:
         t = self.t
         amp = t.find("&", start, end)
         while amp >= 0 and not self.stopped:
-            match = _ENTITY_RE.match(t, amp, end)
+            match = _RE.entity.match(t, amp, end)
             if t.startswith("&nbsp", amp):  # HTML's non-breaking space, copied from a web page
                 length = 6 if t.startswith("&nbsp;", amp) else 5
                 self.report("xml.bad-entity", f"'{t[amp:amp + length]}' {where}: XML has no "
@@ -676,7 +710,7 @@ class _Scanner:
 
     def end_tag(self, j: int) -> int:
         t, n = self.t, self.n
-        match = _NAME_RE.match(t, j + 2)
+        match = _RE.name.match(t, j + 2)
         if not match:
             gt = t.find(">", j + 2)
             line_end = t.find("\n", j + 2)
@@ -856,7 +890,7 @@ class _Scanner:
                             hint="write ]]&gt;", anchor=self.anchor())
                 self.edit(at + 2, at + 3, "&gt;")
         position = i
-        for match in _TAGLIKE_RE.finditer(t, i, j):
+        for match in _RE.taglike.finditer(t, i, j):
             if self.stopped:
                 return
             if self.taglike(match):
@@ -895,9 +929,9 @@ class _Scanner:
         name = match.group("name")
         name_start = match.start("name")
         attrs_text = match.group("attrs")
-        attributes = [a for a, _ in _ATTR_RE.findall(attrs_text)]
+        attributes = [a for a, _ in _RE.attribute.findall(attrs_text)]
         close = match.group("close")
-        valid = _NAME_RE.fullmatch(name) is not None
+        valid = _RE.name.fullmatch(name) is not None
         allowed = self.allowed()
         parent = self.stack[-1].name if self.stack else None
         where = f"inside <{parent}>" if parent else "before the root element"
@@ -955,7 +989,7 @@ class _Scanner:
         return True
 
     def synthetic(self, name: str, start: int, match, close: str, attrs_text: str) -> None:
-        attributes = [a for a, _ in _ATTR_RE.findall(attrs_text)]
+        attributes = [a for a, _ in _RE.attribute.findall(attrs_text)]
         declared = self.check_prefixes(name, start, attributes)
         self.open(name, start, match.end("close"), close == "/>", declared)
 
@@ -970,10 +1004,14 @@ def _adopt(parent: _Open, moved: deque) -> None:
         parent.children.extend(moved)
 
 
-@dataclass
 class _FakeMatch:
-    _start: int
-    _end: int
+    """The span of a name, where ``close`` expects the match of an end tag's name."""
+
+    __slots__ = ("_end", "_start")
+
+    def __init__(self, start: int, end: int):
+        self._start = start
+        self._end = end
 
     def start(self):
         return self._start
@@ -1008,7 +1046,7 @@ def _apply(text: str, edits: list[tuple[int, int, str, int]]):
     line_starts = _line_starts(new)
     per_line: dict[int, list[tuple[int, int, int]]] = {}
     for start, end, delta in shifts:
-        line = bisect.bisect_right(line_starts, start)
+        line = _line_number(line_starts, start)
         base = line_starts[line - 1]
         per_line.setdefault(line, []).append((start - base, end - base, delta))
     return new, per_line
@@ -1030,9 +1068,16 @@ def _line_starts(text: str) -> list[int]:
     return [0] + [m.end() for m in re.finditer("\n", text)]
 
 
+def _line_number(starts: list[int], offset: int) -> int:
+    """1-based line of an offset, given the text's ``_line_starts``."""
+    from bisect import bisect_right  # only a malformed file needs it
+
+    return bisect_right(starts, offset)
+
+
 def _position(starts: list[int], offset: int) -> tuple[int, int]:
     """1-based line and 0-based column of an offset, given the text's ``_line_starts``."""
-    line = bisect.bisect_right(starts, offset)
+    line = _line_number(starts, offset)
     return line, offset - starts[line - 1]
 
 
@@ -1048,7 +1093,7 @@ def _may_hold_taglike_text(text: str) -> bool:
     the line regex runs only on the rest."""
     if text.count(">") <= text.count("<"):
         return False
-    return any(_TAGLIKE_HINT_RE.match(text, line.start()) for line in _GT_LINE_RE.finditer(text))
+    return any(_RE.taglike_hint.match(text, line.start()) for line in _RE.gt_line.finditer(text))
 
 
 def repair(text: str, path: str) -> tuple[str, list[tuple[str, Finding]]]:
@@ -1170,7 +1215,7 @@ _TRAILING_NUL = ("NUL byte(s) at the end of the file; C-based robot tools stop r
 
 def _replace_bad_characters(text: str, found: list) -> str:
     """Characters XML forbids (control characters, NUL) become spaces; one finding per run."""
-    matches = list(_BAD_CHARS_RE.finditer(text))
+    matches = list(_RE.bad_chars.finditer(text))
     if not matches:
         return text
     starts = _line_starts(text)
@@ -1190,4 +1235,4 @@ def _replace_bad_characters(text: str, found: list) -> str:
         else:
             found.append(("xml.bad-character", f"character(s) XML forbids ({characters})", line,
                           column0 + 1, "remove them", None, None))
-    return _BAD_CHARS_RE.sub(lambda m: " " * len(m.group()), text)
+    return _RE.bad_chars.sub(lambda m: " " * len(m.group()), text)
