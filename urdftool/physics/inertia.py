@@ -61,24 +61,31 @@ def transpose(m: Mat3) -> Mat3:
 
 
 def mat_vec(m: Mat3, v: Vec3) -> Vec3:
-    return (dot(m[0], v), dot(m[1], v), dot(m[2], v))
+    x, y, z = v
+    return (m[0][0] * x + m[0][1] * y + m[0][2] * z, m[1][0] * x + m[1][1] * y + m[1][2] * z,
+            m[2][0] * x + m[2][1] * y + m[2][2] * z)
 
 
 def mat_mul(a: Mat3, b: Mat3) -> Mat3:
     bt = transpose(b)
-    return tuple(tuple(dot(row, col) for col in bt) for row in a)  # type: ignore[return-value]
+    return (mat_vec(bt, a[0]), mat_vec(bt, a[1]), mat_vec(bt, a[2]))
 
 
 def mat_add(a: Mat3, b: Mat3) -> Mat3:
-    return tuple(tuple(x + y for x, y in zip(ra, rb)) for ra, rb in zip(a, b))  # type: ignore[return-value]
+    (a0, a1, a2), (b0, b1, b2) = a, b
+    return ((a0[0] + b0[0], a0[1] + b0[1], a0[2] + b0[2]),
+            (a1[0] + b1[0], a1[1] + b1[1], a1[2] + b1[2]),
+            (a2[0] + b2[0], a2[1] + b2[1], a2[2] + b2[2]))
 
 
 def mat_scale(a: Mat3, s: float) -> Mat3:
-    return tuple(tuple(x * s for x in row) for row in a)  # type: ignore[return-value]
+    return ((a[0][0] * s, a[0][1] * s, a[0][2] * s), (a[1][0] * s, a[1][1] * s, a[1][2] * s),
+            (a[2][0] * s, a[2][1] * s, a[2][2] * s))
 
 
 def outer(a: Vec3, b: Vec3) -> Mat3:
-    return tuple(tuple(x * y for y in b) for x in a)  # type: ignore[return-value]
+    return ((a[0] * b[0], a[0] * b[1], a[0] * b[2]), (a[1] * b[0], a[1] * b[1], a[1] * b[2]),
+            (a[2] * b[0], a[2] * b[1], a[2] * b[2]))
 
 
 def diag(m: Mat3) -> Vec3:
