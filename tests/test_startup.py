@@ -35,8 +35,9 @@ UNNEEDED = (
     "xacro", "yaml", "urdftool.xacro_expand", "urdftool.sandbox", "urdftool.sdf",
     # importlib.resources pulls in zipfile, tempfile, shutil, bz2, lzma, random (~4 ms)
     "importlib.resources", "zipfile", "tempfile", "shutil", "bz2", "lzma", "random",
-    # the mesh cache's file names and writes; --jobs; pyproject.toml
-    "hashlib", "multiprocessing", "concurrent.futures",
+    # did-you-mean hints and the XML repair; the mesh cache's file names and writes; --jobs;
+    # pyproject.toml
+    "difflib", "bisect", "hashlib", "multiprocessing", "concurrent.futures",
     "tomllib" if sys.version_info >= (3, 11) else "tomli",
 )
 
