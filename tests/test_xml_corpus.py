@@ -172,6 +172,8 @@ def test_damaged_robots_never_raise_hang_or_move_lines(seed):
                 assert finding.loc.line is None or 1 <= finding.loc.line <= damaged.count("\n") + 1
 
 
+_LONG_NAMES = ["".join(random.Random(seed).choices([chr(0x4E00 + i) for i in range(150)], k=20000))
+               for seed in (1, 2)]
 PATHOLOGICAL = {
     "deeply-nested": '<robot name="r">' + "<a>" * 5000 + "</a>" * 5000 + "</robot>",
     "deeply-unclosed": '<robot name="r">' + "<a>" * 5000,
@@ -181,6 +183,9 @@ PATHOLOGICAL = {
     "lt-soup": "<" * 50000,
     "tag-like-lines": '<robot name="r">\n' + 'a b="c">\n' * 20000 + "</robot>",
     "unclosed-quote": '<robot name="r"><link name="' + "a" * 500000,
+    # difflib compared the names of mistyped end tags: 3 s a pair of 20k-char names
+    "long-mistyped-end-tags": '<robot name="r">\n<' + _LONG_NAMES[0] + ">\n"
+                              + f"</{_LONG_NAMES[1]}>\n" * 20 + "</robot>\n",
 }
 
 

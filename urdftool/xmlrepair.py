@@ -33,6 +33,7 @@ from urdftool.report import Finding
 MAX_REPAIRS = 200  # recognised breakages per file; then stop and let the parser speak
 MAX_ROUNDS = 8  # scan -> edit -> strict parse rounds
 SIMILAR_DEPTH = 50  # open elements an end tag with a typo may have meant (innermost first)
+SIMILAR_LENGTH = 100  # longest name compared for typos (see _similar)
 
 _SPACE = " \t\r\n"
 _PREDEFINED_ENTITIES = {"amp", "lt", "gt", "quot", "apos"}
@@ -202,9 +203,14 @@ def _attrs(text: str) -> str:
 
 
 def _similar(a: str, b: str) -> float:
+    """How alike two names are (0..1); names longer than ``SIMILAR_LENGTH`` are only equal or
+    not (difflib's time grows with the product of the lengths: seconds for two 20k-char names)."""
+    a, b = a.lower(), b.lower()
+    if len(a) > SIMILAR_LENGTH or len(b) > SIMILAR_LENGTH:
+        return 1.0 if a == b else 0.0
     import difflib  # only a malformed file needs it
 
-    return difflib.SequenceMatcher(None, a.lower(), b.lower()).ratio()
+    return difflib.SequenceMatcher(None, a, b).ratio()
 
 
 def _suggest(name: str, attributes: list[str], candidates) -> str | None:
