@@ -1,6 +1,6 @@
-"""Mesh files: resolve a ``<mesh filename>``, load it with trimesh (imported here, lazily: only
-when a robot has meshes) and keep what the rules need: unit-density mass properties, convex
-hull vertices, extents, watertightness.
+"""Mesh files: resolve a ``<mesh filename>``, load it (binary STL directly with numpy, the rest
+with trimesh, imported here, lazily: only when a mesh must be parsed) and keep what the rules
+need: unit-density mass properties, convex hull vertices, extents, watertightness.
 
 Each file is loaded once per process: ``load_mesh`` caches by resolved path (``LOADS`` counts
 the real loads, for tests and benchmarks). The cache holds small summaries, not the meshes; they
