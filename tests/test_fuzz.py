@@ -137,8 +137,9 @@ def _outcomes(write, shape: str, place: int):
     write(_CUBE_STL, "cube.stl")
     origin, mass, same = EXTREME_PLACES[place]
     path = write(_extreme_robot(EXTREME_SHAPES[shape], origin, mass, same), f"r{place}.urdf")
-    return [fuzz.run_command(args, bound=30.0) for args in (
-        ["check", "--format", "json", "--trusted", str(path)], ["inertia", "--format=json", str(path)])]
+    return [fuzz.run_command(args, bound=30.0)
+            for args in (["check", "--format", "json", "--trusted", str(path)],
+                         ["inertia", "--format=json", str(path)])]
 
 
 # physics.inertia.principal_moments squares a 1e308-scale moment with ** (OverflowError, not

@@ -1,14 +1,14 @@
 """Fuzzing: mutate real robot descriptions and run the commands on them.
 
-``python -m urdftool.fuzz --cases N`` takes the seed robots (``robots/*/{published,corrected}``,
-the tests' xacro corpus, pybullet_data URDFs), applies 1-4 random mutations to one (delete,
-duplicate or swap text, truncate, break tags, insert attributes, put NaN/huge numbers in, nest
-elements thousands deep, garble xacro expressions...) and runs ``check`` plus one of ``limits``,
-``inertia``, ``tree`` in-process. Each must give a report or a clean exit-2 message within a time
-bound: a Python traceback, an "internal error" (also a rule's, which ``check`` reports as a
-diagnostic), another exit code or a timeout is a crash. Reproducers are saved; the summary gives
-the number of cases, the crashes and the slowest case. ``tests/test_fuzz.py`` drives the same
-mutations from hypothesis.
+``python -m urdftool.fuzz --cases N`` (or ``--minutes M``) takes the seed robots
+(``robots/*/{published,corrected}``, the tests' xacro corpus, pybullet_data URDFs), applies 1-4
+random mutations to one (delete, duplicate or swap text, truncate, break tags, insert attributes,
+put NaN/huge numbers in, nest elements thousands deep, garble xacro expressions...) and runs
+``check`` plus one of ``limits``, ``inertia``, ``tree`` in-process. Each must give a report or a
+clean exit-2 message within a time bound: a Python traceback, an "internal error" (also a rule's,
+which ``check`` reports as a diagnostic), another exit code or a timeout is a crash. Reproducers
+are saved; the summary gives the number of cases, the crashes and the slowest case.
+``tests/test_fuzz.py`` drives the same mutations from hypothesis.
 """
 
 from __future__ import annotations
