@@ -92,6 +92,10 @@ def check_paths(paths: list[str], options: CheckOptions | None = None) -> Report
 # -- the worker pool --------------------------------------------------------------------------
 
 
+def _worker_chunk(paths: list, options: CheckOptions) -> list[tuple[bool, object]]:
+    return [_worker(path, options) for path in paths]
+
+
 def _worker(path, options: CheckOptions) -> tuple[bool, object]:
     """(True, FileReport) or (False, the exception), so that one file's error comes back as
     that file's result and the pool goes on with the others."""
@@ -106,20 +110,23 @@ def _worker(path, options: CheckOptions) -> tuple[bool, object]:
 
 
 def _check_in_workers(files: list, options: CheckOptions, jobs: int) -> list[FileReport]:
-    """``check_file`` of every file in ``jobs`` forked processes. A worker that dies (a crash
-    in a parser, the OOM killer) breaks the pool: the files it left unchecked are then checked
-    one process each, so that only the file that kills its process is reported (ToolError)."""
+    """``check_file`` of every file in ``jobs`` forked processes, in runs of neighbouring files
+    (a directory's robots share meshes: one worker reads them). A worker that dies (a crash in
+    a parser, the OOM killer) breaks the pool: the files it left unchecked are then checked one
+    process each, so that only the file that kills its process is reported (ToolError)."""
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
     from concurrent.futures.process import BrokenProcessPool
 
     context = multiprocessing.get_context("fork")
     results: list[tuple[bool, object] | None] = [None] * len(files)
+    size = -(-len(files) // (jobs * 4))  # four runs per worker: balance against locality
     with ProcessPoolExecutor(jobs, mp_context=context) as pool:
-        futures = [pool.submit(_worker, f, options) for f in files]
-        for index, future in enumerate(futures):
+        futures = [pool.submit(_worker_chunk, files[start:start + size], options)
+                   for start in range(0, len(files), size)]
+        for start, future in zip(range(0, len(files), size), futures):
             try:
-                results[index] = future.result()
+                results[start:start + size] = future.result()
             except BrokenProcessPool:
                 pass
     for index, path in enumerate(files):
