@@ -57,7 +57,8 @@ class LoadOptions:
 class Source:
     """One input file, read and (for xacro) expanded."""
 
-    __slots__ = ("kind", "lines", "locs", "path", "problems", "resolver", "root", "texts")
+    __slots__ = ("_xpaths", "kind", "lines", "locs", "path", "problems", "resolver", "root",
+                 "texts")
 
     def __init__(self, path: str, kind: str, root: etree._Element | None = None,
                  problems: list[tuple[str, Finding]] | None = None,
@@ -71,11 +72,12 @@ class Source:
         self.resolver = resolver
         self.locs = locs if locs is not None else {}  # element -> Loc (xacro, SDF)
         self.lines: list[str] | None = None  # plain URDF: its lines (positions from the parser)
+        self._xpaths: dict = {}  # element -> its XPath, filled a parent's children at a time
 
     def loc(self, element) -> Loc:
         """Where ``element`` was written; elements made by xacro take their parent's place, and
         comments their element's."""
-        xpath = element.getroottree().getpath(element) if self.root is not None else None
+        xpath = self.xpath(element) if self.root is not None else None
         node = element
         if self.lines is not None:  # found when asked: most elements never are
             while node is not None and not isinstance(node.tag, str):
@@ -96,6 +98,36 @@ class Source:
         if base is None:
             return Loc(self.path, None, None, xpath)
         return Loc(base.path, base.line, base.column, xpath, base.via)
+
+    def xpath(self, element) -> str:
+        """``getpath(element)`` in linear time over a document. lxml's ``getpath`` counts the
+        preceding siblings of every ancestor, which is quadratic on a wide or deep (hostile)
+        file; here the paths of a parent's children are made in one pass over them."""
+        paths = self._xpaths
+        chain = []  # element and its ancestors up to one whose path is known
+        node = element
+        while node not in paths:
+            parent = node.getparent()
+            if parent is None or not isinstance(node.tag, str) or node.tag[0] == "{":
+                paths[node] = node.getroottree().getpath(node)  # root, comment, namespaced
+                break
+            chain.append(parent)
+            node = parent
+        for parent in reversed(chain):
+            base = paths[parent]
+            children = [c for c in parent if isinstance(c.tag, str) and c.tag[0] != "{"]
+            total: dict[str, int] = {}
+            for child in children:
+                total[child.tag] = total.get(child.tag, 0) + 1
+            seen: dict[str, int] = {}
+            for child in children:
+                tag = child.tag
+                if total[tag] == 1:
+                    paths.setdefault(child, f"{base}/{tag}")
+                else:
+                    seen[tag] = seen.get(tag, 0) + 1
+                    paths.setdefault(child, f"{base}/{tag}[{seen[tag]}]")
+        return paths[element]
 
     def problems_for(self, rule: str) -> list[Finding]:
         return [finding for rule_id, finding in self.problems if rule_id == rule]
