@@ -15,6 +15,15 @@ from pathlib import Path
 _NAME_RE = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 
 
+def is_file(path: Path) -> bool:
+    """``path.is_file()`` that is False, not an OSError, for a name the system refuses (longer
+    than NAME_MAX, say): inputs name files, and a name is not a reason to crash."""
+    try:
+        return path.is_file()
+    except OSError:
+        return False
+
+
 def _package_name(package_xml: Path) -> str | None:
     try:
         match = _NAME_RE.search(package_xml.read_text(encoding="utf-8", errors="replace"))

@@ -148,11 +148,13 @@ def tensor_from_second_moment(second: Mat3) -> Mat3:
 def principal_moments(tensor: Mat3) -> Vec3:
     """Eigenvalues of a symmetric 3x3 matrix, ascending (closed-form trigonometric method)."""
     a = tensor
-    p1 = a[0][1] ** 2 + a[0][2] ** 2 + a[1][2] ** 2
+    # x * x, not x ** 2: a float power raises OverflowError where a product gives inf
+    p1 = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2]
     if p1 == 0.0:
         return tuple(sorted(diag(a)))  # type: ignore[return-value]
     q = trace(a) / 3.0
-    p2 = (a[0][0] - q) ** 2 + (a[1][1] - q) ** 2 + (a[2][2] - q) ** 2 + 2.0 * p1
+    d0, d1, d2 = a[0][0] - q, a[1][1] - q, a[2][2] - q
+    p2 = d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * p1
     p = math.sqrt(p2 / 6.0)
     if p == 0.0:
         return (q, q, q)
@@ -381,7 +383,8 @@ class SphereExtent(Extent):
         return add(self.translation, mul(unit(direction), self.radius))
 
     def max_sq_distance(self, origin: Vec3, axis: Vec3) -> float:
-        return (math.sqrt(_sq_distance(self.translation, origin, axis)) + self.radius) ** 2
+        reach = math.sqrt(_sq_distance(self.translation, origin, axis)) + self.radius
+        return reach * reach
 
 
 class CylinderExtent(Extent):
@@ -405,8 +408,8 @@ class CylinderExtent(Extent):
 
     def max_sq_distance(self, origin: Vec3, axis: Vec3) -> float:
         if self.capsule:
-            return max((math.sqrt(_sq_distance(e, origin, axis)) + self.radius) ** 2
-                       for e in self.ends)
+            reach = max(math.sqrt(_sq_distance(e, origin, axis)) for e in self.ends) + self.radius
+            return reach * reach
         a = mat_vec(self.rotation, (1.0, 0.0, 0.0))
         b = mat_vec(self.rotation, (0.0, 1.0, 0.0))
         return max(_rim_max(e, a, b, self.radius, origin, axis) for e in self.ends)

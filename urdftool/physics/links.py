@@ -10,10 +10,12 @@ numpy and trimesh are imported only for links with meshes.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from itertools import permutations
 from pathlib import Path
 
+from urdftool import packages
 from urdftool.physics import inertia as phys
 from urdftool.physics.inertia import Extent, Mat3, Solid, Vec3
 
@@ -121,7 +123,7 @@ class _MeshFiles:
             from urdftool.physics import meshes
 
             path = meshes.resolve(self.robot, geometry)
-            is_file = path is not None and path.is_file()
+            is_file = path is not None and packages.is_file(path)
             found = self._found[key] = (path, is_file, str(path.resolve()) if is_file else None)
         return found
 
@@ -401,11 +403,13 @@ def analyse(robot) -> dict[int, LinkAnalysis]:
     files = _MeshFiles(robot)
     volume_files = _volume_files(robot, files)
     result = {}
-    for i, link in enumerate(robot.links):
-        try:
-            result[i] = analyse_link(robot, link, link.name in moving, volume_files, files)
-        except (ArithmeticError, ValueError):  # numbers no analysis can use: say nothing
-            result[i] = LinkAnalysis(link, moving=link.name in moving)
+    with warnings.catch_warnings():  # numpy's overflow warnings on absurd sizes: the rules
+        warnings.simplefilter("ignore", RuntimeWarning)  # report the sizes themselves
+        for i, link in enumerate(robot.links):
+            try:
+                result[i] = analyse_link(robot, link, link.name in moving, volume_files, files)
+            except (ArithmeticError, ValueError):  # numbers no analysis can use: say nothing
+                result[i] = LinkAnalysis(link, moving=link.name in moving)
     _last = (robot, result)
     return result
 

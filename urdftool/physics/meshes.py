@@ -15,6 +15,7 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from urdftool.packages import is_file
 from urdftool.physics.inertia import Extent, Mat3, Solid, Vec3, sub
 
 # formats trimesh reads (after pycollada for DAE); others (Ogre .mesh, VTK...) are not checked
@@ -190,7 +191,7 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
     global LOADS
     if path.suffix.lower() not in LOADABLE:
         return MeshInfo(str(path), unsupported=True)
-    if not path.is_file():
+    if not is_file(path):
         return MeshInfo(str(path), error="no such file")
     import numpy as np
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+from urdftool.packages import is_file
 from urdftool.physics import links as analysis
 from urdftool.report import Finding
 from urdftool.rules import rule
@@ -72,7 +73,7 @@ drop the shape). Relative paths are relative to the file where the `<mesh>` is w
            '<box size="0.1 0.1 0.1"/></geometry></visual></link></robot>')
 def not_found(robot):
     for a, info in _mesh_shapes(robot):
-        if info.path is not None and not info.path.is_file():
+        if info.path is not None and not is_file(info.path):
             yield Finding(f"{_what(a, info)} mesh {info.shape.geometry.filename!r}: no file "
                           f"at {info.path}", _loc(info))
 

@@ -18,6 +18,7 @@ import re
 from pathlib import Path
 
 from urdftool.model import Robot
+from urdftool.packages import is_file
 from urdftool.report import Finding
 from urdftool.rules import rule, source_rule
 
@@ -278,7 +279,7 @@ def _resolve(robot: Robot, spec: str, base: Path) -> Path | None:
     path = Path(spec)
     if not path.is_absolute():
         path = base / path
-    return path if path.is_file() else None
+    return path if is_file(path) else None
 
 
 def macro_names(robot: Robot) -> dict[str, str]:
