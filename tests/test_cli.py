@@ -154,6 +154,14 @@ def test_missing_file_and_empty_directory(tmp_path):
     assert empty.code == 2 and "no robot files" in empty.err
 
 
+@pytest.mark.parametrize("command", ["check", "inertia", "limits", "tree", "expand", "dh",
+                                     "jacobian", "sim", "convert"])
+def test_a_name_the_system_refuses_is_one_line_not_an_internal_error(command, tmp_path):
+    result = run_urdftool(command, tmp_path / ("a" * 400 + ".urdf"))
+    assert result.code == 2 and "File name too long" in result.err, result.err
+    assert "internal error" not in result.err and len(result.err.strip().splitlines()) == 1
+
+
 def test_bad_usage_exits_2():
     assert run_urdftool("check", "--format", "yaml", "x.urdf").code == 2
     assert run_urdftool("nonsense").code == 2
