@@ -1,8 +1,11 @@
 """Every command that loads a file takes ``--untrusted/--trusted`` and follows the same default
-(untrusted when ``CI`` is set): ``limits`` and ``tree`` refuse what ``check`` and ``expand``
-refuse, a xacro that reads an environment variable or a file outside its package."""
+(untrusted when ``CI`` is set): ``limits``, ``tree``, ``dh``, ``jacobian``, ``sim`` and ``convert``
+refuse what ``check`` and ``expand`` refuse, a xacro that reads an environment variable or a
+file outside its package (an SDF include, for ``convert``)."""
 
 from __future__ import annotations
+
+import json
 
 import pytest
 from conftest import run_urdftool
@@ -17,7 +20,7 @@ BODY = """  <link name="base"/>
   </joint>
 </robot>
 """
-COMMANDS = ["limits", "tree"]
+COMMANDS = ["limits", "tree", "dh", "jacobian"]
 
 
 def _package(tmp_path):
@@ -72,3 +75,28 @@ def test_ci_variable_makes_untrusted_the_default(command, env_reader, monkeypatc
     assert "j_hunter2" in run_urdftool(command, "--trusted", env_reader).out
     monkeypatch.setenv("CI", "")
     assert "j_hunter2" in run_urdftool(command, env_reader).out
+
+
+def test_sim_untrusted_refuses_a_file_outside_the_package(file_reader):
+    trusted = run_urdftool("sim", "--trusted", "--format", "json", "--duration", "0.1",
+                           file_reader)
+    load = json.loads(trusted.out)["models"][0]["checks"][0]
+    assert (load["check"], load["status"]) == ("sim.load", "pass")  # your own files: read
+    result = run_urdftool("sim", "--untrusted", "--format", "json", "--duration", "0.1",
+                          file_reader)
+    assert result.code == 1 and "hunter2" not in result.out + result.err
+    assert "outside the package roots" in result.out and "secret.yaml" in result.out
+
+
+def test_convert_untrusted_reads_no_include_outside_the_package(tmp_path, monkeypatch):
+    outside = tmp_path / "machine" / "secret_model"
+    outside.mkdir(parents=True)
+    (outside / "model.sdf").write_text('<sdf version="1.7"><model name="hunter2">'
+                                       '<link name="hunter2_link"/></model></sdf>')
+    path = _package(tmp_path) / "world.sdf"
+    path.write_text('<sdf version="1.7"><model name="m"><link name="a"/><include>'
+                    f"<uri>{outside / 'model.sdf'}</uri></include></model></sdf>")
+    monkeypatch.chdir(path.parent)
+    assert "hunter2_link" in run_urdftool("convert", "--trusted", path).out
+    result = run_urdftool("convert", "--untrusted", path)
+    assert "hunter2" not in result.out and "outside the package roots" in result.err

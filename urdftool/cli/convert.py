@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from urdftool.cli import load_options, package_option, split_args
+from urdftool.cli import load_options, package_option, split_args, untrusted_options
 
 
 @click.command("convert")
@@ -24,6 +24,7 @@ from urdftool.cli import load_options, package_option, split_args
 @click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text",
               show_default=True, help="text: the URDF; json: the URDF and the diagnostics.")
 @package_option
+@untrusted_options
 @click.pass_context
 def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, packages):
     """Convert an SDFormat model (1.4 to 1.11) to URDF.
@@ -48,13 +49,19 @@ def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, 
     path = Path(paths[0])
     if not path.exists():
         raise ToolError(f"{path}: no such file")
+    from urdftool.packages import PackageResolver
+
+    load = load_options(packages, {})
+    resolver = PackageResolver(load.packages, path)
+    if load.untrusted:  # includes and meshes only inside the package roots
+        from urdftool.sandbox import check_input, confine
+
+        check_input(path, resolver)
+        confine(resolver, path)
     text = read_text(path)
     if detect_kind(path, text) != "sdf":
         raise ToolError(f"{path}: not an SDFormat file (no <sdf> element)")
-    from urdftool.packages import PackageResolver
-
-    source = Source(str(path), "sdf", texts={str(path): text},
-                    resolver=PackageResolver(load_options(packages, {}).packages, path))
+    source = Source(str(path), "sdf", texts={str(path): text}, resolver=resolver)
     output_dir = Path(output).resolve().parent if output and output != "-" else path.resolve().parent
     options = ConvertOptions(model=model, model_paths=list(model_paths),
                              package_uris=list(package_uris), output_dir=output_dir,

@@ -11,7 +11,14 @@ import math
 
 import click
 
-from urdftool.cli import format_option, load_robot, package_option, split_args, stdout_console
+from urdftool.cli import (
+    format_option,
+    load_robot,
+    package_option,
+    split_args,
+    stdout_console,
+    untrusted_options,
+)
 
 SELF_CHECK_SAMPLES = 100
 RESIDUAL_WARNING = 1e-9
@@ -163,6 +170,7 @@ def render_latex(chain, result, residual: float) -> str:
               help="standard: Rz(θ)Tz(d)Tx(a)Rx(α); modified (Craig): Rx(α)Tx(a)Rz(θ)Tz(d).")
 @format_option("text", "json", "csv", "latex")
 @package_option
+@untrusted_options
 def command(inputs, base, tip, convention, fmt, packages):
     """Denavit-Hartenberg table of the serial chain from --base to --tip.
 

@@ -9,7 +9,14 @@ import math
 
 import click
 
-from urdftool.cli import format_option, load_robot, package_option, split_args, stdout_console
+from urdftool.cli import (
+    format_option,
+    load_robot,
+    package_option,
+    split_args,
+    stdout_console,
+    untrusted_options,
+)
 from urdftool.cli.dh import print_table
 
 ROWS = ("vx", "vy", "vz", "wx", "wy", "wz")
@@ -129,6 +136,7 @@ def run_symbolic(chain, fmt: str, simplify: str) -> None:
               help="Warn of a singularity when smallest/largest singular value is below this.")
 @format_option("text", "json", "latex", "numpy")
 @package_option
+@untrusted_options
 def command(inputs, base, tip, q_text, symbolic, simplify, tolerance, fmt, packages):
     """Geometric Jacobian of the tip origin in the base link's frame (rows vx vy vz wx wy wz,
     one column per joint variable), with singular values, manipulability and condition number;

@@ -8,7 +8,14 @@ import time
 
 import click
 
-from urdftool.cli import format_option, package_option, parse_packages, split_args
+from urdftool.cli import (
+    format_option,
+    load_options,
+    package_option,
+    parse_packages,
+    split_args,
+    untrusted_options,
+)
 
 
 def _size(value: str) -> tuple[int, int]:
@@ -72,6 +79,7 @@ def _pairs(values: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
               help="SDF input: where model:// includes and meshes are found. Repeatable.")
 @format_option("text", "json")
 @package_option
+@untrusted_options
 def command(inputs, duration, rate, fixed_base, allow_collision, srdf, no_srdf,
             strict_collision, repaired, render, size, jobs, sdf_model, model_paths, fmt,
             packages):
@@ -103,6 +111,9 @@ def command(inputs, duration, rate, fixed_base, allow_collision, srdf, no_srdf,
                          size=_size(size), jobs=jobs, packages=parse_packages(packages),
                          xacro_args=xacro_args, sdf_model=sdf_model,
                          sdf_model_paths=tuple(model_paths))
+    load = load_options(packages, xacro_args)
+    options.untrusted, options.allow_env = load.untrusted, load.allow_env
+    options.timeout, options.memory_mb = load.timeout, load.memory_mb
     started = time.perf_counter()
     results = simulate(paths, options)
     wall = time.perf_counter() - started

@@ -56,6 +56,11 @@ class SimOptions:
     xacro_args: dict[str, str] = field(default_factory=dict)
     sdf_model: str | None = None  # SDF input: the model of a world (default: the first)
     sdf_model_paths: tuple[str, ...] = ()  # SDF input: where model:// is found
+    # untrusted input (see urdftool.sandbox): as LoadOptions
+    untrusted: bool = False
+    allow_env: tuple[str, ...] = ()
+    timeout: float | None = 5.0
+    memory_mb: int = 1024
     thresholds: Thresholds = field(default_factory=Thresholds)
 
 

@@ -242,6 +242,11 @@ def _resolve(filename: str, source) -> Path | None:
         found = _pybullet_search(filename, base_dir)
     else:
         found = None
+    roots = getattr(source.resolver, "confined_roots", None)
+    if found is not None and roots is not None:  # --untrusted: inside the package roots only
+        from urdftool.sandbox import inside
+
+        found = found if inside(found, roots) else None
     return found.resolve() if found is not None else None
 
 
@@ -341,7 +346,10 @@ def prepare(path: str, options, from_directory: bool = False) -> Prepared:
     try:
         source = load(path, LoadOptions(dict(options.packages), dict(options.xacro_args),
                                         sdf_model=options.sdf_model,
-                                        sdf_model_paths=list(options.sdf_model_paths)))
+                                        sdf_model_paths=list(options.sdf_model_paths),
+                                        untrusted=options.untrusted,
+                                        allow_env=options.allow_env, timeout=options.timeout,
+                                        memory_mb=options.memory_mb))
     except ModuleNotFoundError as exc:  # SDF before the converter exists
         raise ToolError(f"{path}: cannot convert this input for PyBullet ({exc})") from None
     prepared.kind = source.kind
