@@ -45,23 +45,35 @@ RUN = """
 import json, sys
 from urdftool.cli import main
 try:
-    main(["check", "--format", "json", sys.argv[1]])
+    main(["check", "--format", sys.argv[3], sys.argv[1]])
 except SystemExit as exc:
     with open(sys.argv[2], "w") as out:
         json.dump([exc.code, sorted(sys.modules)], out)
 """
 
 
-def test_check_on_a_primitive_robot_imports_nothing_it_does_not_need(tmp_path):
+def _check(tmp_path, fmt: str) -> tuple[int, list[str], str]:
     robot = tmp_path / "small.urdf"
     robot.write_text(SMALL, encoding="utf-8")
     result = tmp_path / "modules.json"
-    done = subprocess.run([sys.executable, "-c", RUN, str(robot), str(result)],
+    done = subprocess.run([sys.executable, "-c", RUN, str(robot), str(result), fmt],
                           capture_output=True, text=True, check=True, cwd=tmp_path)
     code, modules = json.loads(result.read_text(encoding="utf-8"))
-    assert code == 0 and json.loads(done.stdout)["summary"] == {
-        "files": 1, "errors": 0, "warnings": 0, "infos": 0}, done.stdout
+    return code, modules, done.stdout
+
+
+def test_check_on_a_primitive_robot_imports_nothing_it_does_not_need(tmp_path):
+    code, modules, out = _check(tmp_path, "json")
+    assert code == 0 and json.loads(out)["summary"] == {
+        "files": 1, "errors": 0, "warnings": 0, "infos": 0}, out
     assert "urdftool.rules.inertia" in modules  # the rules did run
+    assert sorted(set(UNNEEDED) & set(modules)) == []
+
+
+def test_text_output_of_a_clean_robot_needs_no_rich(tmp_path):
+    """The default format: a clean run prints its summary line without importing rich."""
+    code, modules, out = _check(tmp_path, "text")
+    assert code == 0 and out == "1 file(s): 0 error(s), 0 warning(s), 0 info\n"
     assert sorted(set(UNNEEDED) & set(modules)) == []
 
 

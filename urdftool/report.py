@@ -136,12 +136,27 @@ def format_sarif(report: Report, rule_docs: dict[str, str] | None = None) -> str
     return json.dumps(sarif, indent=2)
 
 
-def render_text(report: Report, console) -> None:
-    """Human output on a rich console: file:line:col, severity, rule, message, the source line
-    with a caret, the hint; then a summary line."""
+def render_text(report: Report, make_console) -> None:
+    """Human output on a rich console (``make_console()``): file:line:col, severity, rule,
+    message, the source line with a caret, the hint; then a summary line. A report without
+    findings is the summary line alone, written without rich: importing rich would be half the
+    start-up of a clean run (a pre-commit hook's usual case)."""
+    s = report.summary()
+    colour = "red" if s["errors"] else ("yellow" if s["warnings"] else "green")
+    summary = (f"{s['files']} file(s): {s['errors']} error(s), {s['warnings']} warning(s), "
+               f"{s['infos']} info")
+    if not any(file.diagnostics for file in report.files):
+        import os
+
+        import click
+
+        colour_on = None if not os.environ.get("NO_COLOR") else False  # None: when a terminal
+        click.echo(click.style(summary, fg=colour), color=colour_on)
+        return
     from rich.markup import escape
     from rich.text import Text
 
+    console = make_console()
     style = {"error": "bold red", "warning": "yellow", "info": "cyan"}
     for file in report.files:
         for d in file.diagnostics:
@@ -158,7 +173,4 @@ def render_text(report: Report, console) -> None:
                         console.print(Text(" " * (10 + d.column - 1) + "^", style=style[d.severity]))
             if d.hint:
                 console.print(f"        [green]fix:[/] {escape(d.hint)}", highlight=False)
-    s = report.summary()
-    colour = "red" if s["errors"] else ("yellow" if s["warnings"] else "green")
-    console.print(f"[{colour}]{s['files']} file(s): {s['errors']} error(s), "
-                  f"{s['warnings']} warning(s), {s['infos']} info[/]", highlight=False)
+    console.print(f"[{colour}]{summary}[/]", highlight=False)

@@ -96,5 +96,5 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, in_
         from urdftool.cli import stdout_console
         from urdftool.report import render_text
 
-        render_text(report, stdout_console())
+        render_text(report, stdout_console)
     ctx.exit(report.exit_code(strict if strict is not None else config.strict))
