@@ -30,25 +30,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from tests.conftest import example_robot_urdfs, pybullet_urdfs
-
-SMALL = """<?xml version="1.0"?>
-<robot name="small">
-  <link name="base">
-    <inertial><mass value="2"/><inertia ixx="0.03" iyy="0.03" izz="0.03" ixy="0" ixz="0" iyz="0"/></inertial>
-    <visual><geometry><box size="0.3 0.3 0.3"/></geometry></visual>
-    <collision><geometry><box size="0.3 0.3 0.3"/></geometry></collision>
-  </link>
-  <link name="wheel">
-    <inertial><mass value="0.5"/><inertia ixx="0.0007" iyy="0.0007" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial>
-    <visual><geometry><cylinder radius="0.06" length="0.04"/></geometry></visual>
-    <collision><geometry><cylinder radius="0.06" length="0.04"/></geometry></collision>
-  </link>
-  <joint name="axle" type="continuous"><parent link="base"/><child link="wheel"/>
-    <origin xyz="0 0.2 0" rpy="1.5707963267948966 0 0"/><axis xyz="0 0 1"/>
-    <limit effort="5" velocity="10"/></joint>
-</robot>
-"""
+from tests.conftest import SMALL, example_robot_urdfs, pybullet_urdfs
 
 
 def check_urdf_command() -> tuple[list[str], dict]:
