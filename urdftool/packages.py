@@ -24,6 +24,19 @@ def is_file(path: Path) -> bool:
         return False
 
 
+_REALPATHS: dict[str, str] = {}
+
+
+def resolved(path: Path | str) -> str:
+    """``str(Path(path).resolve())``, memoised by the name as given: the file system does not
+    change during a run, and resolving walks every component (an lstat each)."""
+    key = os.fspath(path)
+    found = _REALPATHS.get(key)
+    if found is None:
+        found = _REALPATHS[key] = str(Path(key).resolve())
+    return found
+
+
 def _package_name(package_xml: Path) -> str | None:
     try:
         match = _NAME_RE.search(package_xml.read_text(encoding="utf-8", errors="replace"))

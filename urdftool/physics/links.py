@@ -124,7 +124,8 @@ class _MeshFiles:
 
             path = meshes.resolve(self.robot, geometry)
             is_file = path is not None and packages.is_file(path)
-            found = self._found[key] = (path, is_file, str(path.resolve()) if is_file else None)
+            found = self._found[key] = (path, is_file,
+                                        packages.resolved(path) if is_file else None)
         return found
 
     def load(self, path: Path, resolved: str, need_volume: bool):
@@ -143,41 +144,49 @@ def _shape_info(robot, shape, need_volume: bool = True,
                 files: _MeshFiles | None = None) -> ShapeInfo:
     info = ShapeInfo(shape)
     g = shape.geometry
-    if not all(math.isfinite(v) for v in shape.origin.xyz + shape.origin.rpy):
+    origin = shape.origin
+    if not all(math.isfinite(v) for v in origin.xyz + origin.rpy):
         info.problem = "origin is not finite"
         return info
-    rotation = phys.rpy_matrix(shape.origin.rpy)
-    translation = shape.origin.xyz
-    if g.kind == "box":
-        if g.size is None or not _positive(*g.size):
-            info.problem = "box size missing or not positive"
-            return info
-        info.solid = phys.box_solid(g.size).moved(rotation, translation)
-        info.extent = phys.BoxExtent(g.size, rotation, translation)
-    elif g.kind in ("cylinder", "capsule"):
-        if not _positive(g.radius, g.length):
-            info.problem = f"{g.kind} radius or length missing or not positive"
-            return info
-        make = phys.cylinder_solid if g.kind == "cylinder" else phys.capsule_solid
-        info.solid = make(g.radius, g.length).moved(rotation, translation)
-        info.extent = phys.CylinderExtent(g.radius, g.length, rotation, translation,
-                                          capsule=g.kind == "capsule")
-    elif g.kind == "sphere":
-        if not _positive(g.radius):
-            info.problem = "sphere radius missing or not positive"
-            return info
-        info.solid = phys.sphere_solid(g.radius).moved(rotation, translation)
-        info.extent = phys.SphereExtent(g.radius, rotation, translation)
-    elif g.kind == "mesh":
-        _mesh_shape(files or _MeshFiles(robot), info, rotation, translation, need_volume,
-                    volume_files)
-    else:
-        info.problem = "no geometry" if g.kind is None else f"unknown geometry <{g.kind}>"
+    if g.kind == "mesh":
+        _mesh_shape(files or _MeshFiles(robot), info, origin, need_volume, volume_files)
+        return info
+    # the same primitive at the same place recurs across a corpus's robots: placed once per
+    # process (the key is the repr, so that -0.0 and 0.0 stay apart)
+    key = repr((g[:4], origin))
+    placed = _PRIMITIVES.get(key)
+    if placed is None:
+        placed = _PRIMITIVES[key] = _primitive(g, origin)
+    info.solid, info.extent, info.problem = placed
     return info
 
 
-def _mesh_shape(files: _MeshFiles, info: ShapeInfo, rotation: Mat3, translation: Vec3,
-                need_volume: bool, volume_files: set[str] | frozenset) -> None:
+def _primitive(g, origin) -> tuple[Solid | None, Extent | None, str | None]:
+    """(solid, extent, problem) of a box, cylinder, capsule or sphere placed at ``origin``."""
+    rotation = phys.rpy_matrix(origin.rpy)
+    translation = origin.xyz
+    if g.kind == "box":
+        if g.size is None or not _positive(*g.size):
+            return None, None, "box size missing or not positive"
+        return (phys.box_solid(g.size).moved(rotation, translation),
+                phys.BoxExtent(g.size, rotation, translation), None)
+    if g.kind in ("cylinder", "capsule"):
+        if not _positive(g.radius, g.length):
+            return None, None, f"{g.kind} radius or length missing or not positive"
+        make = phys.cylinder_solid if g.kind == "cylinder" else phys.capsule_solid
+        return (make(g.radius, g.length).moved(rotation, translation),
+                phys.CylinderExtent(g.radius, g.length, rotation, translation,
+                                    capsule=g.kind == "capsule"), None)
+    if g.kind == "sphere":
+        if not _positive(g.radius):
+            return None, None, "sphere radius missing or not positive"
+        return (phys.sphere_solid(g.radius).moved(rotation, translation),
+                phys.SphereExtent(g.radius, rotation, translation), None)
+    return None, None, "no geometry" if g.kind is None else f"unknown geometry <{g.kind}>"
+
+
+def _mesh_shape(files: _MeshFiles, info: ShapeInfo, origin, need_volume: bool,
+                volume_files: set[str] | frozenset) -> None:
     from urdftool.physics import meshes
 
     g = info.shape.geometry
@@ -209,9 +218,18 @@ def _mesh_shape(files: _MeshFiles, info: ShapeInfo, rotation: Mat3, translation:
         info.problem = f"cannot load {path.name}: {mesh.error}"
         return
     info.ambiguous = mesh.up_rotation is not None
-    if mesh.solid is not None:
-        info.solid = mesh.solid.scaled(scale).moved(rotation, translation)
-    info.extent = meshes.MeshExtent(mesh, scale, rotation, translation)
+    # placed once per process for each (summary, scale, origin); the summary is kept in the
+    # value, so that its id in the key cannot be reused by another object
+    key = (id(mesh), repr((scale, origin)))
+    placed = _MESH_SHAPES.get(key)
+    if placed is None:
+        rotation = phys.rpy_matrix(origin.rpy)
+        translation = origin.xyz
+        solid = (mesh.solid.scaled(scale).moved(rotation, translation)
+                 if mesh.solid is not None else None)
+        placed = _MESH_SHAPES[key] = (solid, meshes.MeshExtent(mesh, scale, rotation,
+                                                               translation), mesh)
+    info.solid, info.extent, _ = placed
 
 
 # -- analysis -------------------------------------------------------------------------------
@@ -236,6 +254,14 @@ def analyse_link(robot, link, moving: bool = False,
         a.shapes = [_shape_info(robot, s.shape, files=files) if s.shape.role == "visual" else s
                     for s in a.shapes]
     inertial = link.inertial
+    # what follows depends on the shapes' placed solids and extents (shared objects, see
+    # _shape_info), the inertial's values and ``moving`` only: a link met before (the same link
+    # in another variant of a robot) takes that analysis with its own link and shapes
+    key = (moving, repr(inertial[:8]) if inertial is not None else None,
+           tuple((s.shape.role, id(s.solid), id(s.extent), s.ambiguous) for s in a.shapes))
+    known = _LINKS.get(key)
+    if known is not None:
+        return _rebound(known, link, a.shapes)
     if inertial is not None:
         a.mass = inertial.mass
         a.com = inertial.origin.xyz
@@ -252,7 +278,34 @@ def analyse_link(robot, link, moving: bool = False,
                 a.derived_from = role
                 a.solid = phys.combine([s.solid for s in infos])  # type: ignore[misc]
     _judge(a)
-    return a
+    if len(_LINKS) >= _MEMO_LIMIT:
+        _clear_memos()
+    # the analysis keeps its shapes' solids and extents alive: the ids in the key stay theirs
+    _LINKS[key] = a
+    return _rebound(a, link, a.shapes)
+
+
+def _rebound(a: LinkAnalysis, link, shapes: list[ShapeInfo]) -> LinkAnalysis:
+    """A copy of analysis ``a`` for ``link`` and its ``shapes`` (its own locations)."""
+    b = LinkAnalysis.__new__(LinkAnalysis)
+    b.__dict__.update(a.__dict__)
+    b.link, b.shapes = link, shapes
+    b.volumes, b.findings = dict(a.volumes), dict(a.findings)
+    return b
+
+
+# per process, across robots (files of a corpus share links): placed primitives, placed meshes,
+# link analyses (see analyse_link)
+_PRIMITIVES: dict[str, tuple] = {}
+_MESH_SHAPES: dict[tuple, tuple] = {}
+_LINKS: dict[tuple, LinkAnalysis] = {}
+_MEMO_LIMIT = 20000
+
+
+def _clear_memos() -> None:
+    _LINKS.clear()
+    _PRIMITIVES.clear()
+    _MESH_SHAPES.clear()
 
 
 def _judge(a: LinkAnalysis) -> None:
@@ -389,7 +442,7 @@ def _volume_files(robot, files: _MeshFiles) -> set[str]:
             if shape.geometry.kind == "mesh" and shape.geometry.filename:
                 path, is_file, resolved = files.find(shape.geometry)
                 if path is not None:
-                    names.add(resolved if is_file else str(path.resolve()))
+                    names.add(resolved if is_file else packages.resolved(path))
     return names
 
 

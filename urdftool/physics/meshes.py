@@ -15,7 +15,7 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from urdftool.packages import is_file
+from urdftool.packages import is_file, resolved
 from urdftool.physics.inertia import Extent, Mat3, Solid, Vec3, sub
 
 # formats trimesh reads (after pycollada for DAE); others (Ogre .mesh, VTK...) are not checked
@@ -99,7 +99,7 @@ def load_mesh(path: Path | str, need_volume: bool = False) -> MeshInfo:
     meshes the inertia is derived from. An entry made without them is completed on demand
     (a second read, only for a file first met as a visual and later needed for its volume).
     """
-    key = str(Path(path).resolve())
+    key = resolved(path)
     info = _CACHE.get(key)
     if info is None or (need_volume and not info.has_volume and info.ok):
         info = _CACHE[key] = _stored_or_load(Path(key), need_volume)
