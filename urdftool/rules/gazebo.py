@@ -67,10 +67,16 @@ def plugin_references(robot: Robot) -> list[tuple[str, str, object]]:
 
 
 def _suggest(name: str, candidates: list[str]) -> str | None:
-    import difflib  # only on this error path: keeps start-up lean
+    key = (name, tuple(candidates))  # memoised: variants of a robot repeat the same misses
+    if key not in _SUGGESTED:
+        import difflib  # only on this error path: keeps start-up lean
 
-    close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
-    return close[0] if close else None
+        close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
+        _SUGGESTED[key] = close[0] if close else None
+    return _SUGGESTED[key]
+
+
+_SUGGESTED: dict[tuple, str | None] = {}
 
 
 _BASE = ('<robot name="r">\n  <link name="base"/><link name="wheel"/>\n'

@@ -142,7 +142,18 @@ def _version_tuple(text: str | None) -> tuple[int, int] | None:
 
 
 def _close_match(name: str, candidates: list[str]) -> str | None:
-    """The allowed name ``name`` is most probably a typo of (case, one swapped or wrong letter)."""
+    """The allowed name ``name`` is most probably a typo of (case, one swapped or wrong letter).
+    Memoised: the same unknown names recur in every file of a corpus."""
+    key = (name, tuple(candidates))
+    if key not in _CLOSE:
+        _CLOSE[key] = _find_close_match(name, candidates)
+    return _CLOSE[key]
+
+
+_CLOSE: dict[tuple, str | None] = {}
+
+
+def _find_close_match(name: str, candidates: list[str]) -> str | None:
     import difflib  # only when something is unknown: keeps start-up lean
     for candidate in candidates:
         if candidate.lower() == name.lower():
