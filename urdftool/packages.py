@@ -25,6 +25,8 @@ def is_file(path: Path) -> bool:
 
 
 _REALPATHS: dict[str, str] = {}
+_DISCOVERED: dict[tuple, dict[str, Path]] = {}  # PackageResolver._discover, per process
+_DIRECTORIES: dict[tuple[str, str], Path | None] = {}  # PackageResolver.by_directory
 
 
 def resolved(path: Path | str) -> str:
@@ -55,13 +57,24 @@ class PackageResolver:
         self.environ = os.environ if environ is None else environ
         self._found: dict[str, Path] | None = None
         self._uris: dict[tuple[str, Path], Path | None] = {}  # resolve_uri, memoised
-        self._directories: dict[tuple[str, Path], Path | None] = {}  # by_directory, memoised
 
     def _discover(self) -> dict[str, Path]:
-        found: dict[str, Path] = {}
+        # the same for every file of a directory: memoised per process (the file system does
+        # not change during a run)
+        directory = None
         if self.start is not None:
-            directory = self.start.resolve()
+            directory = Path(resolved(self.start))
             directory = directory if directory.is_dir() else directory.parent
+        key = (directory, self.environ.get("ROS_PACKAGE_PATH", ""),
+               self.environ.get("AMENT_PREFIX_PATH", ""))
+        found = _DISCOVERED.get(key)
+        if found is None:
+            found = _DISCOVERED[key] = self._walk(directory)
+        return dict(found)
+
+    def _walk(self, directory: Path | None) -> dict[str, Path]:
+        found: dict[str, Path] = {}
+        if directory is not None:
             for parent in (directory, *directory.parents):
                 if (parent / "package.xml").is_file():
                     own = _package_name(parent / "package.xml")
@@ -112,14 +125,14 @@ class PackageResolver:
             return None
         if name == "urdftool":
             return Path(__file__).resolve().parent
-        key = (name, start)
-        if key not in self._directories:
+        key = (name, os.fspath(start))
+        if key not in _DIRECTORIES:  # memoised per process, like _discover
             directory = start.resolve()
-            self._directories[key] = next(
+            _DIRECTORIES[key] = next(
                 (ancestor if ancestor.name == name else ancestor / name
                  for ancestor in (directory, *directory.parents)
                  if ancestor.name == name or (ancestor / name).is_dir()), None)
-        return self._directories[key]
+        return _DIRECTORIES[key]
 
     def roots(self) -> list[Path]:
         """Every package directory known (the places an input may legitimately read from)."""
