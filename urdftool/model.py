@@ -173,8 +173,8 @@ class Robot:
     """A robot as written. ``links`` and ``joints`` keep every element in document order,
     duplicates included; ``link``/``joint`` look one up by name (first definition wins)."""
 
-    __slots__ = ("_joint_index", "_link_index", "joints", "links", "materials", "name", "root",
-                 "source")
+    __slots__ = ("_elements", "_joint_index", "_link_index", "joints", "links", "materials",
+                 "name", "root", "source")
 
     def __init__(self, name: str | None, links: tuple[Link, ...], joints: tuple[Joint, ...],
                  materials: tuple[Material, ...], source: "Source", root: Any = None):
@@ -184,6 +184,7 @@ class Robot:
         self.materials = materials  # top-level and inline material definitions
         self.source = source
         self.root = root  # the lxml root element of the (expanded) document, or None
+        self._elements: dict[str, list] | None = None  # elements(), grouped on first use
         self._link_index: dict[str, Link] = {}
         self._joint_index: dict[str, Joint] = {}
         for link in links:
@@ -221,7 +222,13 @@ class Robot:
         """Direct children of <robot> with this tag (e.g. gazebo, transmission)."""
         if self.root is None:
             return []
-        return [e for e in self.root if isinstance(e.tag, str) and e.tag == tag]
+        if self._elements is None:  # every rule asks: the children grouped once
+            grouped: dict[str, list] = {}
+            for e in self.root:
+                if isinstance(e.tag, str):
+                    grouped.setdefault(e.tag, []).append(e)
+            self._elements = grouped
+        return list(self._elements.get(tag, ()))
 
 
 # -- building the model from a parsed document --------------------------------------------------

@@ -254,6 +254,9 @@ class _Walk:
             if "since" in spec:
                 self.check_since(spec, f"attribute {name!r} of <{tag}>",
                                  lambda name=name: self.attr_loc(element, name))
+            kind = spec.get("type", "string")
+            if kind == "string" or (kind == "float" and _NUMBER_RE.fullmatch(value.lstrip())):
+                continue  # check_value's common cases, without the call
             self.check_value(element, tag, name, value, spec)
         for name, spec in definition["_required_attributes"]:
             if name not in attributes:
