@@ -79,18 +79,20 @@ class Source:
         comments their element's."""
         xpath = self.xpath(element) if self.root is not None else None
         node = element
-        if self.lines is not None:  # found when asked: most elements never are
-            while node is not None and not isinstance(node.tag, str):
+        lines = self.lines
+        if lines is not None:  # found when asked: most elements never are
+            tag = node.tag
+            while not isinstance(tag, str):
                 node = node.getparent()
-            if node is None:
-                return Loc(self.path, None, None, xpath)
+                if node is None:
+                    return Loc(self.path, None, None, xpath)
+                tag = node.tag
             line = node.sourceline
             column = None
-            if line and line <= len(self.lines):
-                tag = node.tag
+            if line and line <= len(lines):
                 if tag[0] == "{":  # namespaced: written with its prefix
                     tag = _qualified_tag(node)
-                column = _column(self.lines[line - 1], tag)
+                column = _column(lines[line - 1], tag)
             return Loc(self.path, line, column, xpath)
         while node is not None and node not in self.locs:
             node = node.getparent()
@@ -104,6 +106,9 @@ class Source:
         preceding siblings of every ancestor, which is quadratic on a wide or deep (hostile)
         file; here the paths of a parent's children are made in one pass over them."""
         paths = self._xpaths
+        known = paths.get(element)
+        if known is not None:  # the common case: a parent's children are filled at once
+            return known
         chain = []  # element and its ancestors up to one whose path is known
         node = element
         while node not in paths:

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import json
 import re
-from collections import Counter
 from pathlib import Path
 
 from urdftool.model import Loc
@@ -388,7 +387,7 @@ class _Walk:
     def check_children(self, element, tag: str, definition: dict) -> None:
         children = definition["children"]
         shape = definition.get("shape")
-        counts: Counter[str] = Counter()
+        counts: dict[str, int] = {}  # a plain dict: a Counter costs ~1 us per element
         first_shape = None
         for child in element:
             child_tag = child.tag
@@ -417,8 +416,8 @@ class _Walk:
                     continue
                 self.unknown_child(element, tag, child, child_tag, definition, counts)
                 continue
-            counts[child_tag] += 1
-            if spec.get("max") and counts[child_tag] > spec["max"]:
+            count = counts[child_tag] = counts.get(child_tag, 0) + 1
+            if spec.get("max") and count > spec["max"]:
                 self.add("schema.duplicate-element",
                          f"a second <{child_tag}> in <{tag}>: parsers read the first one and "
                          "ignore this one", self.robot.loc(child),
@@ -441,7 +440,7 @@ class _Walk:
                      f"{element.getparent().tag if element.getparent() is not None else tag}",
                      self.robot.loc(element), hint=f"add one of {shapes}")
         for name in definition["_required"]:
-            if counts[name] == 0:
+            if not counts.get(name):
                 self.add("schema.missing-element", f"<{tag}> has no <{name}> (required)",
                          self.robot.loc(element), hint=f"add a <{name}> element")
 
@@ -459,7 +458,7 @@ class _Walk:
                  severity="error")
 
     def unknown_child(self, element, tag: str, child, child_tag: str, definition: dict,
-                      counts: Counter) -> None:
+                      counts: dict[str, int]) -> None:
         children = definition.get("children", {})
         loc = self.robot.loc(child)
         ignored = definition.get("ignored_children", {}).get(child_tag)
@@ -484,7 +483,7 @@ class _Walk:
         candidates = []
         for name, spec in children.items():
             spec = _child_spec(spec)
-            if spec.get("max") == 1 and (counts[name] or element.find(name) is not None):
+            if spec.get("max") == 1 and (counts.get(name) or element.find(name) is not None):
                 continue
             candidates.append(name)
         match = _close_match(child_tag, candidates)
