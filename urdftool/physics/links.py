@@ -406,16 +406,19 @@ def _reaches(shapes: list[ShapeInfo], origin: Vec3, axes: list[Vec3]) -> list[fl
     """``phys.max_sq_distance`` over the shapes' extents for each axis; a mesh's offsets from
     ``origin`` and their squared lengths are computed once for all the axes."""
     rows = []
+    arrays = None  # origin and axes as numpy vectors, made for the first mesh
     for s in shapes:
         if s.mesh is None:
             rows.append([s.extent.max_sq_distance(origin, axis) for axis in axes])
             continue
         import numpy as np
 
-        rel = s.extent.points - np.asarray(origin, dtype=float)
+        if arrays is None:
+            arrays = (np.asarray(origin, dtype=float),
+                      [np.asarray(axis, dtype=float) for axis in axes])
+        rel = s.extent.points - arrays[0]
         squares = np.einsum("ij,ij->i", rel, rel)
-        along = [rel @ np.asarray(axis, dtype=float) for axis in axes]
-        rows.append([float(np.max(squares - a * a)) for a in along])
+        rows.append([float(np.max(squares - a * a)) for a in (rel @ axis for axis in arrays[1])])
     return [max(row[k] for row in rows) for k in range(len(axes))]
 
 

@@ -369,7 +369,7 @@ class MeshExtent(Extent):
         import numpy as np
 
         index = int(np.argmax(self.points @ np.asarray(direction, dtype=float)))
-        return tuple(float(x) for x in self.points[index])  # type: ignore[return-value]
+        return tuple(self.points[index].tolist())  # type: ignore[return-value]
 
     def max_sq_distance(self, origin: Vec3, axis: Vec3) -> float:
         import numpy as np
