@@ -266,8 +266,18 @@ def _child(element, tag: str):
     return None
 
 
-def _pose(element) -> Pose:
-    origin = _child(element, "origin") if element is not None else None
+def _firsts(element) -> dict:
+    """Tag -> the first child with it (what ``_child`` finds), in one pass over the children."""
+    found: dict = {}
+    for child in element:
+        tag = child.tag
+        if tag not in found:
+            found[tag] = child
+    return found
+
+
+def _pose_of(origin) -> Pose:
+    """The pose an <origin> element (or None) gives."""
     if origin is None:
         return Pose()
     xyz = parse_vector(origin.get("xyz")) or (0.0, 0.0, 0.0)
@@ -275,8 +285,8 @@ def _pose(element) -> Pose:
     return Pose(xyz, rpy)  # type: ignore[arg-type]
 
 
-def _geometry(element, source: "Source") -> Geometry:
-    geometry = _child(element, "geometry")
+def _geometry(element, source: "Source", geometry) -> Geometry:
+    """The shape in ``geometry`` (the first <geometry> of ``element``, or None)."""
     shape = None
     if geometry is not None:
         shape = next((c for c in geometry if isinstance(c.tag, str)), None)
@@ -307,27 +317,30 @@ def _material(element, source: "Source") -> Material:
 
 
 def _shape(element, source: "Source", materials: list[Material]) -> Shape:
+    firsts = _firsts(element)
     material_name = None
-    material = _child(element, "material")
+    material = firsts.get("material")
     if material is not None:
         material_name = material.get("name")
         if _child(material, "color") is not None or _child(material, "texture") is not None:
             materials.append(_material(material, source))
-    return Shape(element.tag, element.get("name"), _pose(element), _geometry(element, source),
-                 material_name, source.loc(element))
+    return Shape(element.tag, element.get("name"), _pose_of(firsts.get("origin")),
+                 _geometry(element, source, firsts.get("geometry")), material_name,
+                 source.loc(element))
 
 
-def _inertial(element, source: "Source") -> Inertial | None:
-    inertial = _child(element, "inertial")
+def _inertial(inertial, source: "Source") -> Inertial | None:
+    """The record of a link's first <inertial> (or None)."""
     if inertial is None:
         return None
-    mass = _child(inertial, "mass")
-    inertia = _child(inertial, "inertia")
+    firsts = _firsts(inertial)
+    mass = firsts.get("mass")
+    inertia = firsts.get("inertia")
 
     def moment(name: str) -> float | None:
         return parse_float(inertia.get(name)) if inertia is not None else None
 
-    return Inertial(_pose(inertial), parse_float(mass.get("value")) if mass is not None else None,
+    return Inertial(_pose_of(firsts.get("origin")), parse_float(mass.get("value")) if mass is not None else None,
                     moment("ixx"), moment("ixy"), moment("ixz"), moment("iyy"), moment("iyz"),
                     moment("izz"), source.loc(inertial),
                     source.loc(mass) if mass is not None else None,
@@ -335,21 +348,32 @@ def _inertial(element, source: "Source") -> Inertial | None:
 
 
 def _link(element, source: "Source", materials: list[Material]) -> Link:
-    visuals = tuple(_shape(c, source, materials) for c in element if c.tag == "visual")
-    collisions = tuple(_shape(c, source, materials) for c in element if c.tag == "collision")
-    return Link(element.get("name"), _inertial(element, source), visuals, collisions,
+    visual_elements, collision_elements, inertial = [], [], None
+    for c in element:  # one pass over the children
+        tag = c.tag
+        if tag == "visual":
+            visual_elements.append(c)
+        elif tag == "collision":
+            collision_elements.append(c)
+        elif tag == "inertial" and inertial is None:
+            inertial = c
+    # visuals before collisions: their inline materials are listed in that order
+    visuals = tuple(_shape(c, source, materials) for c in visual_elements)
+    collisions = tuple(_shape(c, source, materials) for c in collision_elements)
+    return Link(element.get("name"), _inertial(inertial, source), visuals, collisions,
                 source.loc(element))
 
 
 def _joint(element, source: "Source") -> Joint:
-    parent = _child(element, "parent")
-    child = _child(element, "child")
-    axis = _child(element, "axis")
-    limit = _child(element, "limit")
-    mimic = _child(element, "mimic")
-    dynamics = _child(element, "dynamics")
-    safety = _child(element, "safety_controller")
-    calibration = _child(element, "calibration")
+    firsts = _firsts(element)
+    parent = firsts.get("parent")
+    child = firsts.get("child")
+    axis = firsts.get("axis")
+    limit = firsts.get("limit")
+    mimic = firsts.get("mimic")
+    dynamics = firsts.get("dynamics")
+    safety = firsts.get("safety_controller")
+    calibration = firsts.get("calibration")
 
     def get(e, name, default=None):
         if e is None or e.get(name) is None:
@@ -361,7 +385,7 @@ def _joint(element, source: "Source") -> Joint:
         type=element.get("type"),
         parent=parent.get("link") if parent is not None else None,
         child=child.get("link") if child is not None else None,
-        origin=_pose(element),
+        origin=_pose_of(firsts.get("origin")),
         axis=(parse_vector(axis.get("xyz")) if axis.get("xyz") is not None else (1.0, 0.0, 0.0))
         if axis is not None else None,  # type: ignore[arg-type]
         limit=Limit(get(limit, "lower", 0.0), get(limit, "upper", 0.0), get(limit, "effort"),
