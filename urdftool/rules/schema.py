@@ -150,6 +150,8 @@ def _close_match(name: str, candidates: list[str]) -> str | None:
 
 
 _CLOSE: dict[tuple, str | None] = {}
+# definition id -> (the table's elements, the definition, and what visit() asks of it)
+_PLANS: dict[str, tuple] = {}
 
 
 def _find_close_match(name: str, candidates: list[str]) -> str | None:
@@ -227,17 +229,25 @@ class _Walk:
 
     # -- one element ----------------------------------------------------------------------------
 
-    def visit(self, element, def_id: str) -> None:
-        definition = self.elements[def_id]
-        if definition.get("open"):
+    def visit(self, element, def_id: str, tag: str | None = None) -> None:
+        plan = _PLANS.get(def_id)
+        if plan is None or plan[0] is not self.elements:
+            definition = self.elements[def_id]
+            plan = _PLANS[def_id] = (
+                self.elements, definition, bool(definition.get("open")),
+                bool(definition["_required_attributes"]) or "required_when" in definition,
+                definition.get("text"), bool(definition["_required"] or definition.get("shape")))
+        _, definition, is_open, always_attributes, text, always_children = plan
+        if is_open:
             return
-        tag = element.tag
+        if tag is None:
+            tag = element.tag
         attributes = element.attrib
-        if attributes or definition["_required_attributes"] or "required_when" in definition:
+        if always_attributes or attributes:
             self.check_attributes(element, tag, definition, attributes)
-        if definition.get("text"):
-            self.check_text(element, tag, definition["text"])
-        if len(element) or definition["_required"] or definition.get("shape"):
+        if text:
+            self.check_text(element, tag, text)
+        if always_children or len(element):
             self.check_children(element, tag, definition)
 
     def check_attributes(self, element, tag: str, definition: dict, attributes) -> None:
@@ -431,7 +441,7 @@ class _Walk:
                          "extension: other URDF parsers (urdfdom: ROS, check_urdf, pinocchio) "
                          "reject it", self.robot.loc(child),
                          hint="keep this file for that simulator, or use a standard shape")
-            self.visit(child, spec["ref"])
+            self.visit(child, spec["ref"], child_tag)
         if shape and first_shape is None:
             shapes = ", ".join(f"<{n}>" for n, s in children.items()
                                if not _child_spec(s).get("extension"))
