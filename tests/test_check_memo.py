@@ -1,0 +1,67 @@
+"""The per-process memos of a check run (link analyses shared across robots, resolved paths,
+did-you-mean suggestions): a file's findings do not depend on what was checked before it."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from urdftool import packages
+from urdftool.check import CheckOptions, check_file, check_paths
+from urdftool.model import build_robot
+from urdftool.physics import links
+from urdftool.source import load
+
+# a link whose declared moments exceed what its box can hold, and a misspelt element
+LINK = """  <link name="arm">
+    <inertial><origin xyz="{x} 0 0.1"/><mass value="1"/>
+      <inertia ixx="5" iyy="5" izz="5" ixy="0" ixz="0" iyz="0"/></inertial>
+    <visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual>
+    <colision><geometry><box size="0.1 0.1 0.1"/></geometry></colision>
+  </link>
+"""
+
+
+def robot(x: str = "0", padding: int = 0) -> str:
+    return ('<robot name="r">\n' + "  <!-- padding -->\n" * padding
+            + '  <link name="base"/>\n' + LINK.format(x=x)
+            + '  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
+              '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n</robot>\n')
+
+
+def fresh(path: Path):
+    links._clear_memos()
+    links._last = None
+    return check_file(path).diagnostics
+
+
+def test_identical_links_in_two_files_keep_their_own_locations(write):
+    first = write(robot(padding=0), "a/robot.urdf")
+    second = write(robot(padding=7), "b/robot.urdf")
+    alone = [fresh(first), fresh(second)]
+    together = [r.diagnostics for r in check_paths([str(first), str(second)],
+                                                   CheckOptions(jobs=1)).files]
+    assert together == alone
+    lines = {d.rule: d.line for d in together[1]}
+    assert lines["inertia.exceeds-geometry"] == {d.rule: d.line for d in together[0]}[
+        "inertia.exceeds-geometry"] + 7
+    assert all(d.path == str(second) for d in together[1])
+
+
+def test_negative_zero_is_not_taken_for_zero(write):
+    plus, minus = write(robot(x="0"), "plus.urdf"), write(robot(x="-0"), "minus.urdf")
+    links._clear_memos()
+    for path in (plus, minus):
+        robot_ = build_robot(load(path))
+        links._last = None
+        (arm,) = [a for a in links.analyse(robot_).values() if a.link.name == "arm"]
+        assert math.copysign(1.0, arm.com[0]) == (1.0 if path == plus else -1.0)
+
+
+def test_resolved_is_path_resolve(tmp_path):
+    (tmp_path / "real").mkdir()
+    (tmp_path / "link").symlink_to(tmp_path / "real")
+    for name in ("link/x.stl", "real/../real/x.stl", "missing/y", "."):
+        path = tmp_path / name
+        assert packages.resolved(path) == str(path.resolve())
+        assert packages.resolved(str(path)) == str(path.resolve())
