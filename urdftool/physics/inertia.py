@@ -512,11 +512,15 @@ def _hull_offset(point: Vec3, extents: list[Extent], tolerance: float = 1e-9) ->
     on the shapes' support functions."""
 
     px, py, pz = point
+    only = extents[0] if len(extents) == 1 else None  # the usual link: one shape, no max
 
     def support(direction: Vec3) -> Vec3:
-        dx, dy, dz = direction
-        best = max((e.support(direction) for e in extents),
-                   key=lambda p: p[0] * dx + p[1] * dy + p[2] * dz)
+        if only is not None:
+            best = only.support(direction)
+        else:
+            dx, dy, dz = direction
+            best = max((e.support(direction) for e in extents),
+                       key=lambda p: p[0] * dx + p[1] * dy + p[2] * dz)
         return (best[0] - px, best[1] - py, best[2] - pz)
 
     v = support((1.0, 0.0, 0.0))

@@ -234,8 +234,19 @@ def two_parents(robot) -> Iterator[Finding]:
             first[joint.child] = joint
 
 
+_last_cycles: tuple[object, list[list[object]]] | None = None
+
+
 def _cycles(robot) -> list[list[object]]:
-    """Kinematic loops as lists of joints (parent -> child order), one per loop."""
+    """Kinematic loops as lists of joints (parent -> child order), one per loop (two rules ask:
+    found once for the last robot)."""
+    global _last_cycles
+    if _last_cycles is None or _last_cycles[0] is not robot:
+        _last_cycles = (robot, _find_cycles(robot))
+    return [list(cycle) for cycle in _last_cycles[1]]
+
+
+def _find_cycles(robot) -> list[list[object]]:
     edges: dict[str, list[object]] = {}
     for joint in robot.joints:
         if joint.parent is None or joint.child is None or joint.parent == joint.child:
