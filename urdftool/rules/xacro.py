@@ -348,21 +348,13 @@ def _unprefixed_calls(robot: Robot):
     if robot.root is None or robot.root.tag != "robot":
         return
     candidates = []
-    # the root's descendants in document order, not entering foreign blocks (their content is
-    # never a call: see _in_foreign_block), without a walk up from every element
-    stack = [iter(robot.root)]
-    while stack:
-        element = next(stack[-1], None)
-        if element is None:
-            stack.pop()
-            continue
+    for element in robot.root.iter():
         tag = element.tag
-        if not isinstance(tag, str):
+        if (not isinstance(tag, str) or tag.startswith("{") or tag in XACRO_TAGS
+                or tag in URDF_ELEMENTS or element is robot.root):
             continue
-        if not (tag.startswith("{") or tag in XACRO_TAGS or tag in URDF_ELEMENTS):
+        if not _in_foreign_block(element):
             candidates.append(element)
-        if tag not in _FOREIGN and len(element):
-            stack.append(iter(element))
     if not candidates:
         return
     macros = macro_names(robot)
