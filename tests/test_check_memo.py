@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import pytest
+
 from urdftool import packages
 from urdftool.check import CheckOptions, check_file, check_paths
 from urdftool.model import build_robot
@@ -59,9 +61,22 @@ def test_negative_zero_is_not_taken_for_zero(write):
 
 
 def test_resolved_is_path_resolve(tmp_path):
-    (tmp_path / "real").mkdir()
+    (tmp_path / "real" / "sub").mkdir(parents=True)
+    (tmp_path / "real" / "sub" / "x.stl").write_text("")
     (tmp_path / "link").symlink_to(tmp_path / "real")
-    for name in ("link/x.stl", "real/../real/x.stl", "missing/y", "."):
+    (tmp_path / "linked_sub").symlink_to(tmp_path / "link" / "sub")
+    (tmp_path / "real" / "file_link.stl").symlink_to(tmp_path / "real" / "sub" / "x.stl")
+    (tmp_path / "loop").symlink_to("loop")
+    for name in ("link/sub/x.stl", "linked_sub/x.stl", "linked_sub/../sub/x.stl",
+                 "real/file_link.stl", "real/../real/x.stl", "missing/y/z", ".", "link/",
+                 "link/./sub", "real/sub/x.stl/below", "linked_sub/.."):
         path = tmp_path / name
-        assert packages.resolved(path) == str(path.resolve())
-        assert packages.resolved(str(path)) == str(path.resolve())
+        packages._REALPATHS.clear()
+        assert packages.resolved(str(path)) == str(path.resolve()), name
+        assert packages.resolved(path) == str(path.resolve()), name
+    for name in ("loop", "loop/x"):
+        packages._REALPATHS.clear()
+        with pytest.raises(RuntimeError):
+            (tmp_path / name).resolve()
+        with pytest.raises(RuntimeError):
+            packages.resolved(tmp_path / name)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import re
+import stat
 from pathlib import Path
 
 _NAME_RE = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
@@ -35,8 +36,24 @@ def resolved(path: Path | str) -> str:
     key = os.fspath(path)
     found = _REALPATHS.get(key)
     if found is None:
-        found = _REALPATHS[key] = str(Path(key).resolve())
+        found = _REALPATHS[key] = _resolve(key)
     return found
+
+
+def _resolve(key: str) -> str:
+    """``str(Path(key).resolve())``: a plain last component that is not a symbolic link is
+    appended to its directory's (memoised) resolution, as ``realpath`` does component by
+    component; anything else is left to ``Path.resolve``."""
+    text = str(Path(key))
+    head, name = os.path.split(text)
+    if head and head != text and name not in ("", ".", ".."):
+        try:
+            link = stat.S_ISLNK(os.lstat(text).st_mode)
+        except OSError:  # missing (or unreadable): realpath keeps the name as it is
+            link = False
+        if not link:
+            return os.path.join(resolved(head), name)
+    return str(Path(key).resolve())
 
 
 def _package_name(package_xml: Path) -> str | None:
