@@ -45,14 +45,10 @@ def check_file(path: Path | str, options: CheckOptions | None = None) -> FileRep
     options = options or CheckOptions()
     source = load(path, options.load)
     robot = build_robot(source)
-    registry = load_all()
     select = options.select or options.config.select
     ignore = options.ignore + options.config.ignore
     diagnostics: list[Diagnostic] = []
-    for rule in registry.values():
-        if not selected(rule.id, select, ignore):
-            continue
-        severity = options.config.severity.get(rule.id, rule.severity)
+    for rule, severity in _enabled(select, ignore, options.config.severity):
         try:
             findings = list(rule.check(robot))
         except Exception as exc:  # a rule must never take the whole run down
@@ -68,6 +64,22 @@ def check_file(path: Path | str, options: CheckOptions | None = None) -> FileRep
     diagnostics.sort(key=lambda d: (d.path != source.path, d.path, d.line or 0, d.column or 0,
                                     d.rule))
     return FileReport(source.path, robot.name, diagnostics, source.texts)
+
+
+_ENABLED: dict[tuple, list] = {}
+
+
+def _enabled(select: list[str], ignore: list[str], severities: dict[str, str]) -> list:
+    """(rule, severity) of every rule selected, in registry order (the same for every file of
+    a run: found once)."""
+    registry = load_all()
+    key = (tuple(select), tuple(ignore), tuple(severities.items()), len(registry))
+    found = _ENABLED.get(key)
+    if found is None:
+        found = _ENABLED[key] = [(rule, severities.get(rule.id, rule.severity))
+                                 for rule in registry.values()
+                                 if selected(rule.id, select, ignore)]
+    return found
 
 
 def available_cpus() -> int:
