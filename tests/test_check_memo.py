@@ -80,3 +80,18 @@ def test_resolved_is_path_resolve(tmp_path):
             (tmp_path / name).resolve()
         with pytest.raises(RuntimeError):
             packages.resolved(tmp_path / name)
+
+
+def test_shared_uri_resolution_keeps_each_resolvers_packages(tmp_path):
+    one, two = tmp_path / "one", tmp_path / "two"
+    (one / "meshes").mkdir(parents=True)
+    (two / "meshes").mkdir(parents=True)
+    robot_file = tmp_path / "robot.urdf"
+    uri = "package://pkg/meshes/a.stl"
+    first = packages.PackageResolver({"pkg": str(one)}, robot_file)
+    second = packages.PackageResolver({"pkg": str(two)}, robot_file)
+    plain = packages.PackageResolver({}, robot_file)
+    assert first.resolve_uri(uri, tmp_path) == one / "meshes" / "a.stl"
+    assert second.resolve_uri(uri, tmp_path) == two / "meshes" / "a.stl"
+    assert plain.resolve_uri(uri, tmp_path) is None
+    assert plain.resolve_uri("meshes/a.stl", one) == one / "meshes" / "a.stl"

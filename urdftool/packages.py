@@ -28,6 +28,8 @@ def is_file(path: Path) -> bool:
 _REALPATHS: dict[str, str] = {}
 _DISCOVERED: dict[tuple, dict[str, Path]] = {}  # PackageResolver._discover, per process
 _DIRECTORIES: dict[tuple[str, str], Path | None] = {}  # PackageResolver.by_directory
+_URIS: dict[tuple, Path | None] = {}  # PackageResolver.resolve_uri, per process
+_UNKNOWN = object()
 
 
 def resolved(path: Path | str) -> str:
@@ -74,19 +76,24 @@ class PackageResolver:
         self.environ = os.environ if environ is None else environ
         self._found: dict[str, Path] | None = None
         self._uris: dict[tuple[str, Path], Path | None] = {}  # resolve_uri, memoised
+        self._context: tuple | None = None  # what resolve_uri depends on besides its arguments
 
-    def _discover(self) -> dict[str, Path]:
-        # the same for every file of a directory: memoised per process (the file system does
-        # not change during a run)
+    def _discovery_key(self) -> tuple:
+        """What ``_discover`` depends on: the start directory and the environment."""
         directory = None
         if self.start is not None:
             directory = Path(resolved(self.start))
             directory = directory if directory.is_dir() else directory.parent
-        key = (directory, self.environ.get("ROS_PACKAGE_PATH", ""),
-               self.environ.get("AMENT_PREFIX_PATH", ""))
+        return (directory, self.environ.get("ROS_PACKAGE_PATH", ""),
+                self.environ.get("AMENT_PREFIX_PATH", ""))
+
+    def _discover(self) -> dict[str, Path]:
+        # the same for every file of a directory: memoised per process (the file system does
+        # not change during a run)
+        key = self._discovery_key()
         found = _DISCOVERED.get(key)
         if found is None:
-            found = _DISCOVERED[key] = self._walk(directory)
+            found = _DISCOVERED[key] = self._walk(key[0])
         return dict(found)
 
     def _walk(self, directory: Path | None) -> dict[str, Path]:
@@ -163,9 +170,20 @@ class PackageResolver:
         the file that names them. Memoised (a robot names the same few directories hundreds
         of times)."""
         key = (uri, base_dir)
-        if key not in self._uris:
-            self._uris[key] = self._resolve_uri(uri, base_dir)
-        return self._uris[key]
+        found = self._uris.get(key, _UNKNOWN)
+        if found is _UNKNOWN:
+            # and per process, for every resolver with the same packages and start directory
+            # (the files of a directory); a confined resolver wraps this method, so its
+            # refusals apply to what comes from here
+            if self._context is None:
+                self._context = (tuple(sorted((k, os.fspath(v)) for k, v in self.explicit.items())),
+                                 self._discovery_key())
+            shared = (self._context, uri, os.fspath(base_dir))
+            found = _URIS.get(shared, _UNKNOWN)
+            if found is _UNKNOWN:
+                found = _URIS[shared] = self._resolve_uri(uri, base_dir)
+            self._uris[key] = found
+        return found
 
     def _resolve_uri(self, uri: str, base_dir: Path) -> Path | None:
         if uri.startswith("package://"):

@@ -82,13 +82,24 @@ def resolve(robot, geometry) -> Path | None:
     Relative names are relative to the file where the ``<mesh>`` was written."""
     if not geometry.filename:
         return None
-    base_dir = Path(geometry.loc.path).parent if geometry.loc is not None else Path(".")
+    base_dir = _directory(geometry.loc.path) if geometry.loc is not None else Path(".")
     resolver = robot.source.resolver
     if resolver is None:
         from urdftool.packages import PackageResolver
 
         resolver = PackageResolver(start=Path(robot.source.path))
     return resolver.resolve_uri(geometry.filename.strip(), base_dir)
+
+
+_DIRECTORIES: dict[str, Path] = {}
+
+
+def _directory(path: str) -> Path:
+    """``Path(path).parent``, memoised (every mesh of a file asks)."""
+    found = _DIRECTORIES.get(path)
+    if found is None:
+        found = _DIRECTORIES[path] = Path(path).parent
+    return found
 
 
 def load_mesh(path: Path | str, need_volume: bool = False) -> MeshInfo:
