@@ -98,7 +98,7 @@ def main() -> None:
     print(f"floor (import lxml.etree, click, xacro): {floor * ms:7.1f} ms")
     print(f"small robot   urdftool {ours_small * ms:7.1f} ms   check_urdf {theirs_small * ms:6.1f} ms"
           f"   urdftool/floor = {ours_small / floor:.2f}x (target <= 1.5x)")
-    print(f"small robot   urdftool, rich text output {ours_small_text * ms:7.1f} ms   "
+    print(f"small robot   urdftool, default text output {ours_small_text * ms:7.1f} ms   "
           f"urdftool/floor = {ours_small_text / floor:.2f}x")
     print(f"large robot   ({large.name}, {n_links} links) urdftool {ours_large * ms:7.1f} ms   "
           f"check_urdf {theirs_large * ms:6.1f} ms   ratio {ours_large / theirs_large:.1f}x")
