@@ -26,7 +26,7 @@ test: $(STAMP)
 	$(BIN)/python -m pytest -q -n 2
 
 fuzz: $(STAMP)
-	$(BIN)/python -m urdftool.fuzz --cases 10000
+	$(BIN)/python -m urdftool.cli.fuzz --cases 10000
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_check.py
