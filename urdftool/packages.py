@@ -75,7 +75,6 @@ class PackageResolver:
         self.start = start
         self.environ = os.environ if environ is None else environ
         self._found: dict[str, Path] | None = None
-        self._uris: dict[tuple[str, Path], Path | None] = {}  # resolve_uri, memoised
         self._context: tuple | None = None  # what resolve_uri depends on besides its arguments
 
     def _discovery_key(self) -> tuple:
@@ -167,22 +166,17 @@ class PackageResolver:
     def resolve_uri(self, uri: str, base_dir: Path) -> Path | None:
         """Resolve a mesh or resource URI to a local path; None when it cannot be resolved.
         Relative paths and unknown packages are looked for from ``base_dir``, the directory of
-        the file that names them. Memoised (a robot names the same few directories hundreds
-        of times)."""
-        key = (uri, base_dir)
-        found = self._uris.get(key, _UNKNOWN)
+        the file that names them. Memoised per process, for every resolver with the same
+        packages and start directory (a robot, and the robots of a directory, name the same few
+        directories hundreds of times); a confined resolver wraps this method, so its refusals
+        apply to what comes from here."""
+        if self._context is None:
+            self._context = (tuple(sorted((k, os.fspath(v)) for k, v in self.explicit.items())),
+                             self._discovery_key())
+        key = (self._context, uri, os.fspath(base_dir))
+        found = _URIS.get(key, _UNKNOWN)
         if found is _UNKNOWN:
-            # and per process, for every resolver with the same packages and start directory
-            # (the files of a directory); a confined resolver wraps this method, so its
-            # refusals apply to what comes from here
-            if self._context is None:
-                self._context = (tuple(sorted((k, os.fspath(v)) for k, v in self.explicit.items())),
-                                 self._discovery_key())
-            shared = (self._context, uri, os.fspath(base_dir))
-            found = _URIS.get(shared, _UNKNOWN)
-            if found is _UNKNOWN:
-                found = _URIS[shared] = self._resolve_uri(uri, base_dir)
-            self._uris[key] = found
+            found = _URIS[key] = self._resolve_uri(uri, base_dir)
         return found
 
     def _resolve_uri(self, uri: str, base_dir: Path) -> Path | None:

@@ -106,14 +106,12 @@ def _positive(*values) -> bool:
 
 
 class _MeshFiles:
-    """The mesh files of one robot: each ``<mesh filename>`` resolved and each file looked up
-    once (a file is often both a visual and a collision, and resolving walks the file system).
-    """
+    """The mesh files of one robot: each ``<mesh filename>`` resolved and looked up once (a
+    file is often both a visual and a collision, and resolving walks the file system)."""
 
     def __init__(self, robot):
         self.robot = robot
         self._found: dict[tuple, tuple[Path | None, bool, str | None]] = {}
-        self._loaded: dict[str, object] = {}
 
     def find(self, geometry) -> tuple[Path | None, bool, str | None]:
         """(the path ``meshes.resolve`` gives, whether it is a file, its resolved name)."""
@@ -127,16 +125,6 @@ class _MeshFiles:
             found = self._found[key] = (path, is_file,
                                         packages.resolved(path) if is_file else None)
         return found
-
-    def load(self, path: Path, resolved: str, need_volume: bool):
-        """``meshes.load_mesh(path, need_volume)``: the same entry of its cache, asked for only
-        when this robot has not had it yet (or now needs the volume it was read without)."""
-        info = self._loaded.get(resolved)
-        if info is None or (need_volume and not info.has_volume and info.ok):
-            from urdftool.physics import meshes
-
-            info = self._loaded[resolved] = meshes.load_mesh(path, need_volume=need_volume)
-        return info
 
 
 def _shape_info(robot, shape, need_volume: bool = True,
@@ -212,7 +200,7 @@ def _mesh_shape(files: _MeshFiles, info: ShapeInfo, origin, need_volume: bool,
         info.problem = "trimesh is not installed"
         return
     need_volume = need_volume or resolved in volume_files
-    mesh = files.load(path, resolved, need_volume)
+    mesh = meshes.load_mesh(resolved, need_volume=need_volume)
     info.mesh = mesh
     if not mesh.ok:
         info.problem = f"cannot load {path.name}: {mesh.error}"
