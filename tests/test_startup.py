@@ -19,9 +19,9 @@ UNNEEDED = (
     "xacro", "yaml", "urdftool.xacro_expand", "urdftool.sandbox", "urdftool.sdf",
     # importlib.resources pulls in zipfile, tempfile, shutil, bz2, lzma, random (~4 ms)
     "importlib.resources", "zipfile", "tempfile", "shutil", "bz2", "lzma", "random",
-    # did-you-mean hints and the XML repair; the mesh cache's file names and writes; --jobs;
-    # pyproject.toml
-    "difflib", "bisect", "hashlib", "multiprocessing", "concurrent.futures",
+    # did-you-mean hints and the XML repair; the mesh cache's file names and writes; --jobs
+    # and its worker results; pyproject.toml
+    "difflib", "bisect", "hashlib", "multiprocessing", "concurrent.futures", "pickle",
     "tomllib" if sys.version_info >= (3, 11) else "tomli",
 )
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import gc
 import os
-import pickle
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -135,6 +134,8 @@ def _worker(path, options: CheckOptions) -> tuple[bool, object]:
     try:
         return True, check_file(path, options)
     except Exception as exc:  # noqa: BLE001 - re-raised in the parent, in file order
+        import pickle  # here: only workers need it (start-up of a one-file check)
+
         try:
             pickle.dumps(exc)
         except Exception:  # noqa: BLE001 - an exception that cannot travel: its text does
