@@ -76,6 +76,16 @@ class PackageResolver:
         self.environ = os.environ if environ is None else environ
         self._found: dict[str, Path] | None = None
         self._context: tuple | None = None  # what resolve_uri depends on besides its arguments
+        self.confined_roots: list[Path] | None = None  # --untrusted: set by sandbox.confine
+
+    def allows(self, path: Path, also: tuple[Path, ...] = ()) -> bool:
+        """Whether the input may read ``path``: anywhere, unless confined (``--untrusted``) to
+        the package roots and the directories ``also`` the user named."""
+        if self.confined_roots is None:
+            return True
+        from urdftool.sandbox import inside
+
+        return inside(path, [*self.confined_roots, *(Path(p).resolve() for p in also)])
 
     def _discovery_key(self) -> tuple:
         """What ``_discover`` depends on: the start directory and the environment."""

@@ -78,18 +78,17 @@ def confine(resolver, path: Path):
     """A resolver for an untrusted input: a mesh or resource URI that resolves outside the
     package roots resolves instead to a path under ``REFUSED`` (which does not exist), so the
     mesh rules report it as missing, with the refusal in the path they name."""
-    roots = package_roots(resolver, path)
+    resolver.confined_roots = package_roots(resolver, path)
     original = resolver.resolve_uri
 
     def resolve_uri(uri: str, base_dir: Path):
         found = original(uri, base_dir)
-        if found is None or inside(found, roots):
+        if found is None or resolver.allows(found):
             return found
         resolved = Path(found).resolve()
         return REFUSED / resolved.relative_to(resolved.anchor)
 
     resolver.resolve_uri = resolve_uri
-    resolver.confined_roots = roots
     return resolver
 
 

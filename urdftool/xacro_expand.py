@@ -450,7 +450,7 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
         from urdftool.safe_eval import LimitExceeded
         from urdftool.sandbox import SandboxFailure, run_isolated
 
-        roots = getattr(source.resolver, "confined_roots", None)
+        roots = source.resolver.confined_roots if source.resolver is not None else None
         if roots is None:
             from urdftool.sandbox import package_roots
 

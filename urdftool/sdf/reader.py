@@ -471,12 +471,8 @@ class Reader:
         """Under --untrusted, includes are read only inside the package roots and the model
         paths the user gave (--model-path, GZ_SIM_RESOURCE_PATH...), never where the input
         points (an absolute path, ``../..``, a symlink)."""
-        roots = getattr(self.source.resolver, "confined_roots", None)
-        if roots is None:
-            return True
-        from urdftool.sandbox import inside
-
-        return inside(path, [*roots, *(p.resolve() for p in self.model_paths)])
+        resolver = self.source.resolver
+        return resolver is None or resolver.allows(path, tuple(self.model_paths))
 
     def search_dirs(self, base: Path) -> list[Path]:
         return [*self.model_paths, base, base.parent]

@@ -242,11 +242,8 @@ def _resolve(filename: str, source) -> Path | None:
         found = _pybullet_search(filename, base_dir)
     else:
         found = None
-    roots = getattr(source.resolver, "confined_roots", None)
-    if found is not None and roots is not None:  # --untrusted: inside the package roots only
-        from urdftool.sandbox import inside
-
-        found = found if inside(found, roots) else None
+    if found is not None and source.resolver is not None and not source.resolver.allows(found):
+        found = None  # --untrusted: inside the package roots only
     return found.resolve() if found is not None else None
 
 
