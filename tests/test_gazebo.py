@@ -141,3 +141,23 @@ def test_m2wr_published_diff_drive():
 def test_m2wr_corrected_is_clean():
     path = _seed("corrected")
     assert check_file(path, CheckOptions(select=["gazebo"])).diagnostics == []
+
+
+def test_frame_parameters_name_tf_frames_not_links(write):
+    # issue 14: frame ids are TF frames (a leading "/" is old tf style, `odom` is no link);
+    # only the parameters a plugin looks up in the model (bodyName...) must name links
+    text = BASE + """  <gazebo>
+    <plugin name="skid" filename="libgazebo_ros_skid_steer_drive.so">
+      <robotBaseFrame>/base</robotBaseFrame><odometryFrame>odom</odometryFrame></plugin>
+    <plugin name="imu" filename="libgazebo_ros_imu.so">
+      <bodyName>base</bodyName><frameName>imu_frame</frameName></plugin>
+    <plugin name="ros2" filename="libgazebo_ros_diff_drive.so">
+      <odometry_frame>odom</odometry_frame><robot_base_frame>base_footprint</robot_base_frame>
+      <frame_id>/camera_optical</frame_id></plugin>
+    <plugin name="p3d" filename="libgazebo_ros_p3d.so"><bodyName>/base</bodyName></plugin>
+  </gazebo>
+</robot>
+"""
+    diagnostics = found(write, text)
+    assert [(d.rule, d.line) for d in diagnostics] == [("gazebo.plugin-unknown-link", 19)]
+    assert "'/base'" in diagnostics[0].message  # GetLink("/base") finds no link

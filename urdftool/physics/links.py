@@ -14,6 +14,7 @@ import warnings
 from dataclasses import dataclass, field
 from itertools import permutations
 from pathlib import Path
+from typing import NamedTuple
 
 from urdftool import packages
 from urdftool.physics import inertia as phys
@@ -33,6 +34,7 @@ MISMATCH_FACTOR = 10.0
 DENSITY_LOW, DENSITY_HIGH = 10.0, 25000.0  # kg/m^3: lighter than foam, denser than osmium
 COM_TOLERANCE = 0.25  # fraction of the body's width (along the way out) the COM may lie outside
 AXIS_NAMES = ("x", "y", "z")
+NEGLIGIBLE_EFFECT = 0.01  # relative change of a merged body's principal moments
 
 
 @dataclass
@@ -480,6 +482,22 @@ def derived_inertial(a: LinkAnalysis, mass: float | None = None,
             "from": a.derived_from, "volume": a.solid.volume}
 
 
+class MergedBody(NamedTuple):
+    root: str  # the link the group is lumped into
+    links: int  # links with mass in the group
+    mass: float
+    com: Vec3  # in the root link's frame
+    tensor: Mat3  # about ``com``, in the root link's frame
+    principal: Vec3
+
+
+class TensorEffect(NamedTuple):
+    body: MergedBody  # with the link's tensor as declared
+    without: MergedBody  # with the link as a point mass
+    change: float  # largest relative change of the body's principal moments
+    static: bool = False  # the body is welded to the world: its inertia never acts
+
+
 class RigidBodies:
     """Links grouped into rigid bodies (joined by fixed joints), with their masses."""
 
@@ -512,6 +530,82 @@ class RigidBodies:
     def subtree_mass(self, name: str) -> float:
         """Mass of a link and everything beyond it."""
         return sum(self.mass.get(n, 0.0) for n in self._descendants(name, False))
+
+    def body_root(self, name: str) -> str:
+        """The link a fixed-joint chain from ``name`` leads up to: the body it is lumped into."""
+        seen = {name}
+        joint = self.parent.get(name)
+        while joint is not None and not joint.moving and joint.parent is not None \
+                and joint.parent not in seen:
+            name = joint.parent
+            seen.add(name)
+            joint = self.parent.get(name)
+        return name
+
+    def merged(self, name: str, point_masses: set | frozenset = frozenset()) -> MergedBody | None:
+        """The body that link ``name`` is lumped into (its fixed-joint group), as Gazebo's URDF
+        reader, Drake and MuJoCo (``fusestatic``) build it: total mass, centre of mass and
+        inertia about it in the group root's frame (parallel-axis theorem). ``point_masses``:
+        links whose own tensors are left out (their masses kept at their COMs). None when
+        nothing in the group has a usable mass or a pose is not finite."""
+        root = self.body_root(name)
+        members = []  # (mass, com, tensor about the member's COM), root frame
+        stack = [(root, phys.IDENTITY, phys.ZERO3)]
+        seen = {root}
+        while stack:
+            link_name, rotation, position = stack.pop()
+            link = self.robot.link(link_name)
+            inertial = link.inertial if link is not None else None
+            m = self.mass.get(link_name, 0.0)
+            if inertial is not None and m > 0:
+                frame = phys.rpy_matrix(inertial.origin.rpy)
+                com = phys.add(position, phys.mat_vec(rotation, inertial.origin.xyz))
+                tensor = inertial.tensor if link_name not in point_masses else None
+                tensor = (phys.rotate_tensor(phys.mat_mul(rotation, frame), tensor)
+                          if tensor is not None else phys.ZERO33)
+                members.append((m, com, tensor))
+            for joint in self.children.get(link_name, []):
+                if joint.moving or joint.child is None or joint.child in seen:
+                    continue
+                seen.add(joint.child)
+                stack.append((joint.child,
+                              phys.mat_mul(rotation, phys.rpy_matrix(joint.origin.rpy)),
+                              phys.add(position, phys.mat_vec(rotation, joint.origin.xyz))))
+        total = sum(m for m, _, _ in members)
+        if total <= 0 or not math.isfinite(total):
+            return None
+        com = tuple(sum(m * c[k] for m, c, _ in members) / total for k in range(3))
+        tensor = phys.ZERO33
+        for m, c, t in members:
+            tensor = phys.mat_add(tensor, phys.parallel_axis(t, m, phys.sub(c, com)))
+        if not all(math.isfinite(x) for row in tensor for x in row + com):
+            return None
+        return MergedBody(root, len(members), total, com, tensor,
+                          phys.principal_moments(tensor))
+
+    def tensor_effect(self, name: str, suspects: set | frozenset = frozenset()) -> TensorEffect | None:
+        """How much link ``name``'s own inertia tensor changes the body it is lumped into:
+        the largest relative change of that body's principal moments between the tensor as
+        declared and a point mass in its place (``math.inf`` when the body has no other
+        rotational inertia; 0 for a body fixed to a root link called ``world``, which never
+        moves). The other ``suspects`` (impossible tensors) are point masses in both, so that
+        one placeholder does not hide another. None when the link is a body on its own."""
+        others = set(suspects) - {name}
+        with_tensor = self.merged(name, others)
+        without = self.merged(name, others | {name})
+        if with_tensor is None or without is None:
+            return None
+        if with_tensor.root == "world" and with_tensor.root not in self.parent:
+            return TensorEffect(with_tensor, without, 0.0, static=True)
+        if with_tensor.links < 2:
+            return None
+        change = 0.0
+        for a, b in zip(with_tensor.principal, without.principal):
+            if b <= TINY_MOMENT:
+                change = math.inf if abs(a - b) > TINY_MOMENT else change
+            else:
+                change = max(change, abs(a - b) / b)
+        return TensorEffect(with_tensor, without, change)
 
     def is_free_massless_base(self, name: str) -> bool:
         """A root link whose rigid body (it and what is fixed to it) has no mass, while joints

@@ -28,9 +28,11 @@ JOINT_PARAMS = frozenset({
     # joint state publishers, joint controllers, mimic plugins
     "jointName", "joint_name", "mimicJoint", "mimic_joint",
 })
-# plugin parameters whose text names a link
-LINK_PARAMS = frozenset({"robotBaseFrame", "robot_base_frame", "bodyName", "body_name",
-                         "link_name", "linkName"})
+# plugin parameters whose text names a link the plugin looks up in the model (GetLink). Frame
+# parameters (`robotBaseFrame`, `frameName`, `odometryFrame`, `*_frame`, `frame_id`...) are not
+# among them: they name TF frames the plugin publishes or stamps (a leading "/" is the old tf
+# style), which need not be links at all (`odom`, `world`, `map`)
+LINK_PARAMS = frozenset({"bodyName", "body_name", "link_name", "linkName"})
 
 
 def _text(element) -> str:
@@ -134,9 +136,12 @@ def plugin_unknown_joint(robot: Robot):
 
 
 @rule("gazebo.plugin-unknown-link", "error", "a Gazebo plugin parameter names a missing link",
-      doc="""Plugins attach to links by name (`<bodyName>`, `<robotBaseFrame>`,
-      `<robot_base_frame>`, ...). A name that is no link makes the plugin fail to load, or
-      publishes odometry and TF for a frame that is not part of the robot.""",
+      doc="""Plugins attach to links by name (`<bodyName>`, `<body_name>`, `<link_name>`,
+      `<linkName>`): the plugin looks the link up in the model when it loads, and a name that
+      is no link makes it fail to load. Frame parameters (`<robotBaseFrame>`, `<frameName>`,
+      `<odometryFrame>`, `<frame_id>`, `*_frame`...) are not checked: they name TF frames the
+      plugin publishes or stamps messages with (`odom`, `world`, `/base_link` in the old tf
+      style), not links it looks up.""",
       bad=_BASE + '  <gazebo><plugin name="p3d" filename="libgazebo_ros_p3d.so">\n'
                   '    <bodyName>base_link</bodyName></plugin></gazebo>\n</robot>',
       good=_BASE + '  <gazebo><plugin name="p3d" filename="libgazebo_ros_p3d.so">\n'
@@ -340,7 +345,8 @@ def _drive_pairs(plugin):
            '  </plugin></gazebo>\n</robot>')
 def drive_geometry(robot: Robot):
     for plugin in plugins(robot):
-        base_names = [t for t, _ in _values(plugin, "robotBaseFrame", "robot_base_frame")]
+        base_names = [t.lstrip("/") for t, _ in _values(plugin, "robotBaseFrame",
+                                                         "robot_base_frame")]
         for (left, left_node), (right, right_node), separation, size in _drive_pairs(plugin):
             left_joint, right_joint = robot.joint(left), robot.joint(right)
             if left_joint is None or right_joint is None or not left_joint.child \

@@ -147,6 +147,48 @@ def mass_not_positive(robot):
                                "link and a fixed joint to it")
 
 
+def _targets_gazebo(robot) -> bool:
+    """The description carries <gazebo> blocks (plugins, sensors, materials): it is meant to be
+    loaded by Gazebo, whose URDF reader (sdformat) drops a moving link without mass."""
+    return bool(robot.elements("gazebo"))
+
+
+def _kinematics_only(robot) -> bool:
+    """No <inertial> anywhere while joints move: a description for rviz, TF and planning."""
+    return (all(link.inertial is None for link in robot.links)
+            and any(joint.moving for joint in robot.joints))
+
+
+@rule("inertia.kinematics-only", "warning",
+      "no link has an <inertial>: the description is kinematics only and cannot be simulated",
+      doc="""A description without any `<inertial>` serves rviz, TF and motion planning (the
+ROS-Industrial support packages, MoveIt's test robots are written so on purpose), but no
+simulator can use it as is: PyBullet gives every link 1 kg and 1 kg·m², Gazebo's URDF reader
+drops every link that a joint moves. Reported once for the robot, instead of once per moving
+link as `inertia.massless-moving-link`. Add the inertials before simulating (`urdftool inertia
+FILE --density 1000` suggests them from the geometry), or ignore the rule for a package that is
+kinematics only on purpose (`ignore = ["inertia.kinematics-only"]`).""",
+      bad=_robot('<link name="base"/>\n<joint name="j" type="revolute"><parent link="base"/>'
+                 '<child link="arm"/><axis xyz="0 0 1"/>'
+                 '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
+                 '<link name="arm"/>\n<gazebo><static>false</static></gazebo>'),
+      good=_robot(_link("base", "1", ("0.01", "0.01", "0.01")) + '\n'
+                  '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
+                  '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+                  '</joint>\n' + _link("arm", "0.5", ("0.001", "0.001", "0.001"))))
+def kinematics_only(robot):
+    if not _kinematics_only(robot):
+        return
+    moving = sum(joint.moving for joint in robot.joints)
+    loc = robot.loc(robot.root) if robot.root is not None else None
+    yield Finding(f"robot '{robot.name}': no link has an <inertial> ({len(robot.links)} links, "
+                  f"{moving} moving joints): kinematics only, it cannot be simulated as is "
+                  "(PyBullet gives every link 1 kg, Gazebo drops every moving link)", loc,
+                  hint="add an <inertial> to every link that moves (`urdftool inertia FILE "
+                       "--density 1000` suggests them), or ignore inertia.kinematics-only "
+                       "for a description meant for planning only")
+
+
 @rule("inertia.massless-moving-link", "warning",
       "a link that moves has no <inertial>, or nothing on it or beyond it has mass",
       doc="""A link attached by a moving joint needs mass and inertia: it is a body the
@@ -156,7 +198,11 @@ nothing beyond it carrying mass, the joint moves nothing and its equation of mot
 singular.
 
 A massless link between two joints (a hip or wrist built from several revolute joints) is fine
-when the links beyond it carry mass; it is not reported.""",
+for PyBullet, pinocchio and Drake when the links beyond it carry mass, and is not reported,
+unless the description carries `<gazebo>` blocks: Gazebo's URDF reader (sdformat) drops a
+link of zero mass attached by a moving joint, together with its joints and everything beyond
+it. A description with no `<inertial>` at all is reported once, as
+`inertia.kinematics-only`.""",
       bad=_robot(_link("base", "1", ("0.01", "0.01", "0.01")) + '\n'
                  '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
                  '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
@@ -166,7 +212,10 @@ when the links beyond it carry mass; it is not reported.""",
                   '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
                   '</joint>\n' + _link("arm", "0.5", ("0.001", "0.001", "0.001"))))
 def massless_moving_link(robot):
+    if _kinematics_only(robot):
+        return  # one finding for the robot: inertia.kinematics-only
     bodies = analysis.RigidBodies(robot)
+    gazebo = _targets_gazebo(robot)
     for link in robot.links:
         joint = robot.parent_joint(link.name) if link.name is not None else None
         if joint is None or not joint.moving:
@@ -181,6 +230,12 @@ def massless_moving_link(robot):
             yield Finding(f"{moves} but neither it nor anything beyond it has mass: the "
                           "joint moves nothing and its equation of motion is singular",
                           _mass_loc(link), hint="give the link its mass and inertia")
+        elif link.inertial.mass == 0 and gazebo:
+            yield Finding(f"{moves} with mass 0 in a description for Gazebo: Gazebo's URDF "
+                          f"reader drops it, joint '{joint.name}' and everything beyond it "
+                          f"({bodies.subtree_mass(link.name):g} kg)", _mass_loc(link),
+                          hint="give the link a small mass and inertia (a few grams and "
+                               "1e-6 kg·m² keep the chain)")
 
 
 @rule("inertia.not-positive-definite", "error",
@@ -262,17 +317,41 @@ Links whose geometry is missing or unreadable are not checked.""",
       good=_robot(_link("wheel", "0.1", ("1.9e-05", "1.9e-05", "3.1e-05"),
                         '<cylinder radius="0.025" length="0.02"/>')))
 def exceeds_geometry(robot):
-    for a in _analyses(robot, "exceeds-geometry"):
+    found = list(_analyses(robot, "exceeds-geometry"))
+    impossible = {a.link.name for a in found if a.findings["exceeds-geometry"] == "error"}
+    bodies = analysis.RigidBodies(robot) if impossible else None
+    for a in found:
         b = a.bound
         m = a.mass
+        severity, merged = a.findings["exceeds-geometry"], ""
+        if bodies is not None and severity == "error" and a.link.name is not None:
+            effect = bodies.tensor_effect(a.link.name, impossible)
+            if effect is not None:
+                severity, merged = _merged_verdict(a.link.name, effect)
         axis = b.axis_name if b.axis_name.startswith("principal") else f"{b.axis_name} axis"
         yield Finding(f"link '{a.link.name}': moment {_g(b.moment)} kg·m² about the "
                       f"{axis} through the COM is {b.ratio:.3g}x the most {m:g} kg can have "
                       f"within its visual and collision geometry ({m:g} kg × "
                       f"({_g(b.reach)} m)² = {_g(b.bound)} kg·m²)"
                       + (f"; ixx = iyy = izz = {a.declared[0][0]:g} looks like a placeholder"
-                         if analysis.is_placeholder(a.declared) else ""), _inertia_loc(a.link),
-                      hint=_block_hint(a), severity=a.findings["exceeds-geometry"])
+                         if analysis.is_placeholder(a.declared) else "") + merged,
+                      _inertia_loc(a.link), hint=_block_hint(a), severity=severity)
+
+
+def _merged_verdict(name: str, effect) -> tuple[str, str]:
+    """(severity, sentence) of an impossible tensor judged through the body it is lumped
+    into: negligible there (or on a body welded to the world) is a warning."""
+    body = effect.body
+    if effect.static:
+        return "warning", (f"; but '{name}' is fixed to 'world': that body never moves, so its "
+                           "inertia does not act in a simulation")
+    change = "∞" if math.isinf(effect.change) else f"{100 * effect.change:.3g}%"
+    lumped = (f"; Gazebo, Drake and MuJoCo lump fixed links into one body: '{name}' joins "
+              f"'{body.root}' ({body.mass:.4g} kg, {body.links} links with mass), whose "
+              f"principal moments this tensor changes by {change} against a point mass")
+    if effect.change < analysis.NEGLIGIBLE_EFFECT:
+        return "warning", lumped + ": negligible there"
+    return "error", lumped
 
 
 def _permutation_text(perm: tuple[int, int, int]) -> str:

@@ -1,0 +1,142 @@
+"""Severity from consequence (issue 14): an impossible tensor judged through the body a
+simulator builds (fixed links lumped into their parent), one finding for a kinematics-only
+robot, Gazebo's dropping of massless moving links. Merged-body numbers against pinocchio, which
+lumps fixed links into their parent joint's body the same way."""
+
+from __future__ import annotations
+
+
+import pytest
+
+from urdftool.check import CheckOptions, check_file
+from urdftool.physics.links import RigidBodies
+
+BASE = """<robot name="r">
+  <link name="base_link">
+    <inertial><origin xyz="0.01 -0.02 0.03" rpy="0.1 0.2 0.3"/><mass value="5"/>
+      <inertia ixx="0.05" ixy="0.001" ixz="0" iyy="0.06" iyz="-0.002" izz="0.07"/></inertial>
+    <collision><geometry><box size="0.4 0.3 0.2"/></geometry></collision></link>
+  <joint name="cam_joint" type="{joint}"><parent link="{parent}"/><child link="camera"/>
+    <origin xyz="0.2 0.05 0.1" rpy="0 0.5 1.0"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <link name="camera">
+    <inertial><origin xyz="0.003 0 0.001" rpy="0.3 0 0"/><mass value="0.03"/>
+      <inertia ixx="{moment}" ixy="0" ixz="0" iyy="{moment}" iyz="0" izz="{moment}"/></inertial>
+    <collision><geometry><box size="0.02 0.02 0.02"/></geometry></collision></link>
+  <joint name="mount" type="fixed"><parent link="base_link"/><child link="mount"/>
+    <origin xyz="-0.1 0 0.15" rpy="0.4 0 0"/></joint>
+  <link name="mount">
+    <inertial><origin xyz="0 0.01 0"/><mass value="0.5"/>
+      <inertia ixx="0.0004" ixy="0" ixz="0" iyy="0.0005" iyz="0" izz="0.0006"/></inertial>
+    <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+{extra}</robot>
+"""
+
+
+def robot_text(joint="fixed", parent="base_link", moment="0.0001", extra=""):
+    return BASE.format(joint=joint, parent=parent, moment=moment, extra=extra)
+
+
+def findings(write, text, select=("inertia",)):
+    report = check_file(write(text), CheckOptions(select=list(select)))
+    return [(d.rule, d.severity, d.message) for d in report.diagnostics]
+
+
+def test_merged_body_matches_pinocchio(write):
+    pin = pytest.importorskip("pinocchio")
+    from urdftool.source import load
+    from urdftool.model import build_robot
+
+    path = write(robot_text(moment="0.0001"))
+    model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
+    body = model.inertias[1]  # the free-flyer body: base_link with camera and mount lumped
+    robot = build_robot(load(path))
+    merged = RigidBodies(robot).merged("camera")
+    assert merged.root == "base_link" and merged.links == 3
+    assert merged.mass == pytest.approx(body.mass, rel=1e-12)
+    assert merged.com == pytest.approx(tuple(body.lever), abs=1e-12)
+    expected = sorted(float(v) for v in __import__("numpy").linalg.eigvalsh(body.inertia))
+    assert merged.principal == pytest.approx(expected, rel=1e-9)
+
+
+def test_placeholder_on_a_fixed_sensor_is_a_warning_with_its_effect(write):
+    pin = pytest.importorskip("pinocchio")
+    import numpy as np
+
+    (rule, severity, message), = findings(write, robot_text())
+    assert (rule, severity) == ("inertia.exceeds-geometry", "warning")
+    assert "joins 'base_link'" in message and "negligible" in message
+    # the change quoted is the merged body's, with the tensor against a point mass: pinocchio
+    moments = []
+    for moment in ("0.0001", "0"):
+        model = pin.buildModelFromUrdf(str(write(robot_text(moment=moment), f"m{moment}.urdf")),
+                                       pin.JointModelFreeFlyer())
+        moments.append(np.linalg.eigvalsh(model.inertias[1].inertia))
+    change = max(abs(a - b) / b for a, b in zip(*moments))
+    assert 0 < change < 0.01
+    assert f"{100 * change:.3g}%" in message
+
+
+def test_impossible_tensor_that_matters_stays_an_error(write):
+    # the same placeholder a thousand times larger dominates the merged body
+    (rule, severity, message), = findings(write, robot_text(moment="0.1"))
+    assert (rule, severity) == ("inertia.exceeds-geometry", "error")
+    assert "joins 'base_link'" in message and "negligible" not in message
+    # on a moving joint the link is a body of its own: an error
+    (rule, severity, message), = findings(write, robot_text(joint="revolute"))
+    assert (rule, severity) == ("inertia.exceeds-geometry", "error")
+    assert "joins" not in message
+    # fixed to a link without mass, the camera is the whole body
+    extra = ('  <link name="bracket"/>\n  <joint name="b" type="revolute"><parent '
+             'link="base_link"/><child link="bracket"/><axis xyz="0 0 1"/>'
+             '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n')
+    assert ("inertia.exceeds-geometry", "error") in [
+        (r, s) for r, s, _ in findings(write, robot_text(parent="bracket", extra=extra))]
+
+
+def test_body_welded_to_the_world_never_moves(write):
+    extra = ('  <link name="world"/>\n  <joint name="w" type="fixed"><parent link="world"/>'
+             '<child link="base_link"/></joint>\n')
+    (rule, severity, message), = findings(write, robot_text(moment="0.1", extra=extra))
+    assert (rule, severity) == ("inertia.exceeds-geometry", "warning")
+    assert "fixed to 'world'" in message
+
+
+KINEMATIC = """<robot name="arm">
+  <link name="base"/><link name="a"/><link name="b"/><link name="tool0"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="j2" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="t" type="fixed"><parent link="b"/><child link="tool0"/></joint>
+{extra}</robot>
+"""
+
+
+def test_kinematics_only_robot_is_one_finding(write):
+    assert findings(write, KINEMATIC.format(extra="")) == [
+        ("inertia.kinematics-only", "warning",
+         "robot 'arm': no link has an <inertial> (4 links, 2 moving joints): kinematics only, "
+         "it cannot be simulated as is (PyBullet gives every link 1 kg, Gazebo drops every "
+         "moving link)")]
+    # one link with an inertial: the others are reported one by one again
+    one = KINEMATIC.replace('<link name="a"/>', '<link name="a"><inertial><mass value="1"/>'
+                            '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>'
+                            '</inertial></link>').format(extra="")
+    assert [(r, s) for r, s, _ in findings(write, one)] == [
+        ("inertia.massless-moving-link", "warning")]
+
+
+def test_massless_link_between_joints_is_dropped_by_gazebo(write):
+    inertial = ('<inertial><mass value="{0}"/><inertia ixx="{1}" ixy="0" ixz="0" iyy="{1}" '
+                'iyz="0" izz="{1}"/></inertial>')
+    text = (KINEMATIC
+            .replace('<link name="base"/>', f'<link name="base">{inertial.format(2, 0.01)}</link>')
+            .replace('<link name="a"/>', f'<link name="a">{inertial.format(0, 0)}</link>')
+            .replace('<link name="b"/>', f'<link name="b">{inertial.format(1, 0.001)}</link>'))
+    # a massless hip link is fine for PyBullet, pinocchio, Drake: nothing said
+    assert findings(write, text.format(extra="")) == []
+    gazebo = text.format(extra='  <gazebo><plugin name="p" filename="libp.so"/></gazebo>\n')
+    (rule, severity, message), = findings(write, gazebo)
+    assert (rule, severity) == ("inertia.massless-moving-link", "warning")
+    assert "Gazebo's URDF reader drops it" in message and "(1 kg)" in message
