@@ -175,7 +175,7 @@ def test_axis_in_model_frame(name, tmp_path):
 
 def test_loop_cut_and_refused(tmp_path):
     urdf_path, err = convert(tmp_path, "loop.sdf")
-    assert "joint 'close' closes a kinematic loop" in err and "[sdf.kinematic-loop]" in err
+    assert "joint 'close' closes the kinematic loop" in err and "[sdf.kinematic-loop]" in err
     urdf = Urdf(urdf_path)
     assert not urdf.model.existJointName("close")
     for q in sweep(size=3):
@@ -188,7 +188,7 @@ def test_loop_cut_and_refused(tmp_path):
         check_pose(urdf.frame("rocker"), rocker)
     refused = run_urdftool("convert", DATA / "loop.sdf", "--no-cut", "-o", tmp_path / "no.urdf")
     assert refused.code == 1
-    assert "closes a kinematic loop" in refused.err and not (tmp_path / "no.urdf").exists()
+    assert "closes the kinematic loop" in refused.err and not (tmp_path / "no.urdf").exists()
     assert "Traceback" not in refused.err
 
 

@@ -166,19 +166,40 @@ source_rule(
 
 source_rule(
     "sdf.kinematic-loop", "warning", "a kinematic loop: one joint is cut to make a URDF tree",
-    doc="""SDF models may close loops (a four-bar linkage: a link that is the child of two
-    joints). URDF is a tree, so urdftool keeps the first joints in document order and cuts the
-    one that closes each loop, naming it; the loop then has to be closed in the simulator.
-    `urdftool convert --no-cut` refuses instead.""",
+    doc="""SDF models may close loops (a four-bar linkage, a parallel gripper). URDF is a tree,
+    so urdftool keeps a spanning tree that attaches every link (grown from the world or the root
+    link, joints taken in document order, the SDF way round first) and cuts the joint of each
+    loop whose two links are already attached, naming the loop; the loop then has to be closed
+    in the simulator. `urdftool convert --no-cut` refuses instead. Gazebo simulates the SDF loop
+    as written; a URDF simulator sees the open chain.""",
     bad=_model(_BASE + _ARM + _HINGE + _HINGE.replace('name="j"', 'name="k"')),
     good=_model(_BASE + _ARM + _HINGE),
 )
 
 source_rule(
+    "sdf.reversed-joint", "info", "a joint written the other way round to keep its link attached",
+    doc="""A link whose only joint makes it the *parent* of a link that already hangs on another
+    joint (a sensor bolted on with the joint written backwards, a parallel link of a gripper)
+    is not a loop: SDF and Gazebo accept it. URDF gives each link one parent, so urdftool writes
+    that joint reversed: parent and child swapped, the origin inverted and the axis flipped, so
+    that +q is the same relative motion and limits, mimics and controllers keep their meaning.
+    The converted robot moves exactly as the SDF does; only the joint's direction changed.""",
+    bad=_model(_BASE + _ARM + _LINK.format("sensor") + _HINGE
+               + '<joint name="mount" type="fixed"><parent>sensor</parent><child>arm</child>'
+               "</joint>"),
+    good=_model(_BASE + _ARM + _LINK.format("sensor") + _HINGE
+                + '<joint name="mount" type="fixed"><parent>arm</parent><child>sensor</child>'
+                "</joint>"),
+)
+
+source_rule(
     "sdf.disconnected-link", "warning", "a link joined to nothing: hung on the root by a floating joint",
-    doc="""An SDF model may hold free bodies that no joint connects. A URDF has exactly one root,
-    so each free body is joined to the root by a `floating` joint (a `fixed` one in a static
-    model), which keeps it free but is read differently by different tools.""",
+    doc="""An SDF model may hold free bodies that no joint connects (directly or through other
+    links) to the rest of the model; Gazebo simulates them as free bodies. A URDF has exactly
+    one root, so each free body is joined to the root by a `floating` joint (a `fixed` one in a
+    static model), which keeps it free but is read differently by different tools (many ignore
+    floating joints). A link that has a joint, whichever way round, is never floating: see
+    `sdf.reversed-joint` and `sdf.kinematic-loop`.""",
     bad=_model(_BASE + _ARM),
     good=_model(_BASE + _ARM + _HINGE),
 )

@@ -68,12 +68,20 @@ class JointInfo:
     type: str
     parent: str | None  # link key or WORLD
     child: str | None
-    cut: bool = False
+    reversed: bool = False  # URDF parent is the SDF child (the tree needed it the other way)
     mimic_of: tuple[str, float] | None = None  # gearbox: (leader joint key, multiplier)
 
     @property
     def key(self) -> str:
         return self.entity.key
+
+    @property
+    def urdf_parent(self) -> str | None:
+        return self.child if self.reversed else self.parent
+
+    @property
+    def urdf_child(self) -> str | None:
+        return self.parent if self.reversed else self.child
 
 
 class Builder:
@@ -153,7 +161,7 @@ class Builder:
         joints = self.read_joints()
         self.apply_gearboxes(joints)
         kept = self.choose_tree(joints)
-        parent_joint = {j.child: j for j in kept}
+        parent_joint = {j.urdf_child: j for j in kept}
         # URDF frames: a moving joint's child sits at the joint frame
         for entity in self.links:
             joint = parent_joint.get(entity.key)
@@ -161,7 +169,7 @@ class Builder:
                 self.frame_of[self.names[entity.key]] = self.graph.pose(joint.key)
             else:
                 self.frame_of[self.names[entity.key]] = self.graph.pose(entity.key)
-        if any(j.parent == WORLD for j in kept):
+        if any(j.urdf_parent == WORLD for j in kept):
             world = self.link_name(WORLD)
             self.frame_of[world] = self.graph.pose(WORLD)
             element = self.sub(self.root, "link", None, name=world)
@@ -267,35 +275,117 @@ class Builder:
                             hint="add a <mimic> between the two hinges by hand")
 
     def choose_tree(self, joints: list[JointInfo]) -> list[JointInfo]:
-        parent_of: dict[str, str] = {}
-        kept: list[JointInfo] = []
-        cut: list[JointInfo] = []
+        """The joints URDF keeps: a spanning tree of each connected group of links, grown from
+        its root (the world, else the link no joint hangs, canonical first) by always taking
+        the next joint that hangs a new link the SDF way round, in document order, and only
+        then one that must be reversed. A joint whose two links are already attached closes a
+        loop and is cut; every other link stays attached (reversed joints where needed)."""
+        import heapq
+
+        index = {id(j): i for i, j in enumerate(joints)}
+        edges: dict[str, list[JointInfo]] = {}
+        has_parent: set[str] = set()
         for joint in joints:
-            node, closes = joint.parent, False
-            while node is not None:
-                if node == joint.child:
-                    closes = True
-                    break
-                node = parent_of.get(node)
-            if joint.child in parent_of or closes:
-                cut.append(joint)
+            edges.setdefault(joint.parent, []).append(joint)
+            edges.setdefault(joint.child, []).append(joint)
+            has_parent.add(joint.child)
+        canonical = self.graph.canonical_link(self.top)
+        position = {e.key: i for i, e in enumerate(self.links)}
+        order = ([WORLD] if WORLD in edges else []) + \
+            ([canonical] if canonical in self.link_keys else []) + [e.key for e in self.links]
+        tree_parent: dict[str, tuple[str, JointInfo]] = {}  # link -> (URDF parent, joint)
+        visited: set[str] = set()
+        decided: set[int] = set()
+        self.root_of: dict[str, str] = {}
+        cut: list[JointInfo] = []
+        for start in order:
+            if start in visited:
                 continue
-            parent_of[joint.child] = joint.parent
-            kept.append(joint)
-        for joint in cut:
+            if start != WORLD and start in has_parent:  # grow from the world or an SDF root
+                group = self._group(start, edges)
+                roots = sorted((k for k in group if k not in has_parent), key=lambda k: (
+                    k != WORLD, k != canonical, position.get(k, -1)))
+                start = roots[0] if roots else start
+            self.root_of[start] = start
+            visited.add(start)
+            heap = [(j.child == start, index[id(j)], start, j) for j in edges.get(start, ())
+                    if id(j) not in decided]
+            heapq.heapify(heap)
+            while heap:
+                reversed_, _, node, joint = heapq.heappop(heap)
+                if id(joint) in decided:
+                    continue
+                decided.add(id(joint))
+                other = joint.parent if reversed_ else joint.child
+                if other in visited:
+                    cut.append(joint)
+                    continue
+                joint.reversed = bool(reversed_)
+                tree_parent[other] = (node, joint)
+                self.root_of[other] = self.root_of[node]
+                visited.add(other)
+                for j in edges.get(other, ()):
+                    if id(j) not in decided:
+                        heapq.heappush(heap, (j.child == other, index[id(j)], other, j))
+        kept = [j for j in joints if id(j) in decided and j not in cut]
+        for joint in kept:
+            if joint.reversed:
+                self.report_reversed(joint, tree_parent)
+        for joint in sorted(cut, key=lambda j: index[id(j)]):
+            loop = self._loop(joint, tree_parent)
             if not self.options.cut_loops:
                 raise LoopRefused(
-                    f"joint '{joint.entity.name}' closes a kinematic loop (link "
-                    f"'{joint.child}' already hangs on another joint); URDF is a tree. "
-                    "Without --no-cut, urdftool cuts that joint.")
+                    f"joint '{joint.entity.name}' closes the kinematic loop {loop}; URDF is a "
+                    "tree. Without --no-cut, urdftool cuts that joint.")
             self.report("sdf.kinematic-loop",
-                        f"joint '{joint.entity.name}' closes a kinematic loop (link "
-                        f"'{joint.child}' already has a parent joint); URDF is a tree, so this "
-                        "joint is cut and the loop is left open", joint.entity.element,
-                        hint="close the loop in the simulator (e.g. a constraint plugin), or "
-                             "choose which joint to cut by reordering the joints")
-        self.parent_of = parent_of
+                        f"joint '{joint.entity.name}' closes the kinematic loop {loop}; URDF is "
+                        "a tree, so it is cut (both its links are already attached through the "
+                        "other joints of the loop, so every link stays attached) and the loop is "
+                        "left open", joint.entity.element,
+                        hint="close the loop in the simulator (e.g. a joint constraint plugin "
+                             "between the two links)")
+        self.tree_parent = tree_parent
         return kept
+
+    @staticmethod
+    def _group(start: str, edges: dict[str, list[JointInfo]]) -> list[str]:
+        """The links joined to ``start`` through any joints (either way round)."""
+        seen, todo = {start}, [start]
+        while todo:
+            node = todo.pop()
+            for joint in edges.get(node, ()):
+                for other in (joint.parent, joint.child):
+                    if other not in seen:
+                        seen.add(other)
+                        todo.append(other)
+        return list(seen)
+
+    def _loop(self, joint: JointInfo, tree_parent) -> str:
+        """'a -> b -> c -> a' through the tree between the cut joint's links (shortest way)."""
+        def up(node: str) -> list[str]:
+            path = [node]
+            while node in tree_parent:
+                node = tree_parent[node][0]
+                path.append(node)
+            return path
+
+        a, b = up(joint.parent), up(joint.child)
+        common = next((n for n in a if n in set(b)), None)
+        path = a[:a.index(common) + 1] + list(reversed(b[:b.index(common)])) if common else a
+        names = [self.link_name(n) if n == WORLD else n for n in path]
+        return " - ".join(f"'{n}'" for n in names + names[:1])
+
+    def report_reversed(self, joint: JointInfo, tree_parent) -> None:
+        name = joint.entity.name
+        self.report("sdf.reversed-joint",
+                    f"joint '{name}' is written reversed (parent '{joint.child}', child "
+                    f"'{joint.parent}'): in SDF link '{joint.child}' already hangs on joint "
+                    f"'{tree_parent[joint.child][1].entity.name}', and URDF gives a link one "
+                    f"parent, so '{joint.parent}' hangs on '{joint.child}' instead. The origin "
+                    "is inverted and the axis flipped, so +q is the same motion as in the SDF",
+                    joint.entity.element, severity="info",
+                    hint=f"write the joint with <parent>{joint.child}</parent> and "
+                         f"<child>{joint.parent}</child> if that is what you mean")
 
     def limits(self, axis, joint_type: str):
         """lower, upper, effort, velocity (None where unbounded/unlimited)."""
@@ -349,8 +439,8 @@ class Builder:
     def emit_joint(self, joint: JointInfo) -> None:
         entity = joint.entity
         element = entity.element
-        parent_name = self.link_name(joint.parent)
-        child_name = self.names[joint.child]
+        parent_name = self.link_name(joint.urdf_parent)
+        child_name = self.names[joint.urdf_child]
         frame = self.graph.pose(joint.key)
         if joint.type == "fixed":
             origin = self.frame_of[child_name].seen_from(self.frame_of[parent_name])
@@ -362,43 +452,40 @@ class Builder:
         origin = frame.seen_from(self.frame_of[parent_name])
         axis = element.find("axis")
         axis2 = element.find("axis2")
-        if joint.type in MOVING:
-            self.single(joint, self.joint_name(joint.key), parent_name, child_name, origin,
-                        joint.type, axis, self.axis_vector(joint, axis))
-            return
-        # joints URDF has not got: a chain of single joints through massless links
+        # the single URDF joints from the SDF parent to the SDF child: (name, type, <axis>,
+        # vector, extra keyword arguments of ``single``)
         name = entity.name
-        if joint.type in ("universal", "revolute2"):
-            middle = self.extra_link(f"{joint.key}__link", element, frame)
-            self.single(joint, self.joint_name(joint.key), parent_name, middle, origin,
-                        "revolute", axis, self.axis_vector(joint, axis))
-            self.single(joint, self.joint_name(joint.key, "__axis2"), middle, child_name,
-                        IDENTITY, "revolute", axis2, self.axis_vector(joint, axis2), axis2=True)
+        middle: list[str] = []
+        if joint.type in MOVING:
+            steps = [(self.joint_name(joint.key), joint.type, axis,
+                      self.axis_vector(joint, axis), {})]
+        elif joint.type in ("universal", "revolute2"):
+            middle = [self.extra_link(f"{joint.key}__link", element, frame)]
+            steps = [(self.joint_name(joint.key), "revolute", axis,
+                      self.axis_vector(joint, axis), {}),
+                     (self.joint_name(joint.key, "__axis2"), "revolute", axis2,
+                      self.axis_vector(joint, axis2), {"axis2": True})]
+            self.check_two_axes(joint, axis, axis2, steps[0][3], steps[1][3])
             self.report("sdf.unsupported-joint",
                         f"{joint.type} joint '{name}' has no URDF equivalent: written as two "
-                        f"revolute joints '{self.joint_name(joint.key)}' and "
-                        f"'{self.joint_name(joint.key, '__axis2')}' through the massless link "
-                        f"'{middle}'", element, hint=GAZEBO_MASSLESS)
+                        f"revolute joints '{steps[0][0]}' and '{steps[1][0]}' through the "
+                        f"massless link '{middle[0]}'", element, hint=GAZEBO_MASSLESS)
         elif joint.type == "ball":
-            first = self.extra_link(f"{joint.key}__link1", element, frame)
-            second = self.extra_link(f"{joint.key}__link2", element, frame)
-            names = [self.joint_name(joint.key), self.joint_name(joint.key, "__y"),
-                     self.joint_name(joint.key, "__z")]
-            chain = [(parent_name, first, origin, (1.0, 0.0, 0.0)),
-                     (first, second, IDENTITY, (0.0, 1.0, 0.0)),
-                     (second, child_name, IDENTITY, (0.0, 0.0, 1.0))]
-            for joint_name, (p, c, o, vector) in zip(names, chain):
-                self.single(joint, joint_name, p, c, o, "continuous", None, vector)
+            middle = [self.extra_link(f"{joint.key}__link1", element, frame),
+                      self.extra_link(f"{joint.key}__link2", element, frame)]
+            steps = [(self.joint_name(joint.key, suffix), "continuous", None, vector, {})
+                     for suffix, vector in (("", (1.0, 0.0, 0.0)), ("__y", (0.0, 1.0, 0.0)),
+                                            ("__z", (0.0, 0.0, 1.0)))]
             self.report("sdf.unsupported-joint",
                         f"ball joint '{name}' has no URDF equivalent: written as three "
-                        f"continuous joints about x, y, z of the joint frame ({', '.join(names)}) "
-                        "through two massless links; the chain has a singularity where the "
-                        "ball has none", element, hint=GAZEBO_MASSLESS)
+                        "continuous joints about x, y, z of the joint frame "
+                        f"({', '.join(step[0] for step in steps)}) through two massless links; "
+                        "the chain has a singularity where the ball has none", element,
+                        hint=GAZEBO_MASSLESS)
         elif joint.type == "screw":
-            middle = self.extra_link(f"{joint.key}__link", element, frame)
+            middle = [self.extra_link(f"{joint.key}__link", element, frame)]
             leader = self.joint_name(joint.key)
             vector = self.axis_vector(joint, axis)
-            self.single(joint, leader, parent_name, middle, origin, "revolute", axis, vector)
             pitch = self.screw_pitch(joint)  # metres per revolution
             multiplier = pitch / (2 * math.pi)
             lower, upper, _, _ = self.limits(axis, "revolute")
@@ -406,14 +493,50 @@ class Builder:
             if lower is not None and upper is not None:
                 image = sorted((lower * multiplier, upper * multiplier))
             follower = self.joint_name(joint.key, "__translation")
-            self.single(joint, follower, middle, child_name, IDENTITY, "prismatic", axis, vector,
-                        mimic=(leader, multiplier, 0.0), bounds=image or (None, None),
-                        dynamics=False)
+            steps = [(leader, "revolute", axis, vector, {}),
+                     (follower, "prismatic", axis, vector,
+                      {"mimic": (leader, multiplier, 0.0), "bounds": image or (None, None),
+                       "dynamics": False})]
             self.report("sdf.unsupported-joint",
                         f"screw joint '{name}' has no URDF equivalent: written as revolute "
                         f"'{leader}' and prismatic '{follower}' mimicking it "
-                        f"({multiplier:g} m/rad) through the massless link '{middle}'", element,
-                        hint=GAZEBO_MASSLESS)
+                        f"({multiplier:g} m/rad) through the massless link '{middle[0]}'",
+                        element, hint=GAZEBO_MASSLESS)
+        else:
+            return
+        chain = [self.link_name(joint.parent), *middle, self.names[joint.child]]
+        if joint.reversed:
+            # the inverse motion: the same single joints in the opposite order, each about the
+            # opposite axis, so that each keeps its value (+q is the same motion)
+            steps = [(n, kind, ax, tuple(-v + 0.0 for v in vector), extra)
+                     for n, kind, ax, vector, extra in reversed(steps)]
+            chain.reverse()
+        for index, (joint_name, kind, axis_element, vector, extra) in enumerate(steps):
+            self.single(joint, joint_name, chain[index], chain[index + 1],
+                        origin if index == 0 else IDENTITY, kind, axis_element, vector, **extra)
+
+    def check_two_axes(self, joint: JointInfo, axis, axis2, vector, vector2) -> None:
+        """A universal or revolute2 joint needs two axes that are not parallel."""
+        missing = [tag for tag, element in (("axis", axis), ("axis2", axis2)) if element is None]
+        cross = (vector[1] * vector2[2] - vector[2] * vector2[1],
+                 vector[2] * vector2[0] - vector[0] * vector2[2],
+                 vector[0] * vector2[1] - vector[1] * vector2[0])
+        norms = math.hypot(*vector) * math.hypot(*vector2)
+        parallel = norms > 0 and math.hypot(*cross) <= 1e-9 * norms
+        if not missing and not parallel:
+            return
+        what = (f"has no <{'> and no <'.join(missing)}>: libsdformat takes SDFormat's default "
+                "0 0 1 for each missing axis" if missing else "has parallel axes")
+        self.report("sdf.unsupported-joint",
+                    f"{joint.type} joint '{joint.entity.name}' {what}"
+                    + (", so its two rotations are about the same line: it turns about one axis "
+                       "where two were meant (Gazebo builds that degenerate joint; Drake refuses "
+                       "the file: 'Both axis and axis2 must be specified')" if parallel else
+                       " (Drake refuses the file: 'Both axis and axis2 must be specified')")
+                    + "; the URDF repeats what libsdformat reads", joint.entity.element,
+                    severity="warning",
+                    hint="give both <axis><xyz> and <axis2><xyz>, perpendicular (e.g. 1 0 0 "
+                         "and 0 1 0)")
 
     def screw_pitch(self, joint: JointInfo) -> float:
         element = joint.entity.element
@@ -526,20 +649,19 @@ class Builder:
                  multiplier=fmt(multiplier), offset=fmt(offset - multiplier * reference))
 
     def attach_roots(self, kept: list[JointInfo]) -> None:
-        """URDF has one root: links no joint reaches hang on the main root."""
-        children = {j.child for j in kept}
+        """URDF has one root: a link (with the links hung on it) that no joint joins to the
+        main tree hangs on the main root by a floating joint (fixed in a static model)."""
+        children = {j.urdf_child for j in kept}
         roots = [e for e in self.links if e.key not in children]
         if not roots:
             return
-        uses_world = any(j.parent == WORLD for j in kept)
         canonical = self.graph.canonical_link(self.top)
-        main = canonical
-        while main in self.parent_of:
-            main = self.parent_of[main]
-        if uses_world:
+        if WORLD in self.root_of:
             main = WORLD
-        if main is None:
-            main = roots[0].key
+        elif canonical in self.root_of:
+            main = self.root_of[canonical]
+        else:
+            main = canonical if canonical is not None else roots[0].key
         main_name = self.link_name(main)
         for entity in roots:
             if entity.key == main:
@@ -553,10 +675,13 @@ class Builder:
             self.sub(joint, "parent", entity.element, link=main_name)
             self.sub(joint, "child", entity.element, link=name)
             if kind == "floating":
+                hung = sum(1 for k, r in self.root_of.items() if r == entity.key and k != r)
+                also = f" (nor are the {hung} link(s) joined to it)" if hung else ""
                 self.report("sdf.disconnected-link",
-                            f"link '{entity.key}' is joined to no other link (a free body in "
-                            f"SDF); URDF has one root: joined to '{main_name}' by the floating "
-                            f"joint '{joint.get('name')}'", entity.element,
+                            f"link '{entity.key}' is joined by no joint to '{main_name}' or "
+                            f"anything joined to it{also}: a free body in SDF. URDF has one "
+                            f"root: joined to '{main_name}' by the floating joint "
+                            f"'{joint.get('name')}'", entity.element,
                             hint="add the joint that holds it, or put it in its own model")
 
     # -- links ------------------------------------------------------------------------------

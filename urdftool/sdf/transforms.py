@@ -29,17 +29,43 @@ def quat_matrix(x: float, y: float, z: float, w: float) -> Mat3:
             (2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)))
 
 
+def matrix_quat(r: Mat3) -> tuple[float, float, float, float]:
+    """Unit quaternion (w, x, y, z) of a rotation matrix (Shepperd: the largest of w, x, y, z
+    is found first and divides the others, so no branch loses precision)."""
+    trace = r[0][0] + r[1][1] + r[2][2]
+    cases = (trace, r[0][0], r[1][1], r[2][2])
+    k = max(range(4), key=cases.__getitem__)
+    if k == 0:
+        s = 2.0 * math.sqrt(1.0 + trace)
+        q = (s / 4, (r[2][1] - r[1][2]) / s, (r[0][2] - r[2][0]) / s, (r[1][0] - r[0][1]) / s)
+    elif k == 1:
+        s = 2.0 * math.sqrt(max(0.0, 1.0 + r[0][0] - r[1][1] - r[2][2]))
+        q = ((r[2][1] - r[1][2]) / s, s / 4, (r[0][1] + r[1][0]) / s, (r[0][2] + r[2][0]) / s)
+    elif k == 2:
+        s = 2.0 * math.sqrt(max(0.0, 1.0 - r[0][0] + r[1][1] - r[2][2]))
+        q = ((r[0][2] - r[2][0]) / s, (r[0][1] + r[1][0]) / s, s / 4, (r[1][2] + r[2][1]) / s)
+    else:
+        s = 2.0 * math.sqrt(max(0.0, 1.0 - r[0][0] - r[1][1] + r[2][2]))
+        q = ((r[1][0] - r[0][1]) / s, (r[0][2] + r[2][0]) / s, (r[1][2] + r[2][1]) / s, s / 4)
+    n = math.sqrt(sum(v * v for v in q))
+    return tuple(v / n for v in q)  # type: ignore[return-value]
+
+
 def matrix_rpy(r: Mat3) -> Vec3:
-    """Roll, pitch, yaw of a rotation matrix (inverse of ``rpy_matrix``)."""
-    sp = -r[2][0]
-    if sp >= 1.0 - 1e-12 or sp <= -1.0 + 1e-12:  # gimbal lock: put everything in yaw
-        pitch = math.copysign(math.pi / 2, sp)
-        roll = 0.0
-        yaw = math.atan2(-r[0][1], r[1][1])
-        return (roll, pitch, yaw)
-    pitch = math.asin(max(-1.0, min(1.0, sp)))
-    roll = math.atan2(r[2][1], r[2][2])
-    yaw = math.atan2(r[1][0], r[0][0])
+    """Roll, pitch, yaw of a rotation matrix (inverse of ``rpy_matrix``), without snapping.
+
+    The pitch comes from atan2 of -r20 over the norm of the four entries that carry cos(pitch)
+    (well conditioned even at pitch = ±pi/2 - 1e-7); roll and yaw from the half-angle sums of
+    the quaternion, which stay exact where asin and the r10/r00, r21/r22 ratios do not."""
+    w, x, y, z = matrix_quat(r)
+    cos_pitch = math.sqrt((r[0][0] ** 2 + r[1][0] ** 2 + r[2][1] ** 2 + r[2][2] ** 2) / 2)
+    pitch = math.atan2(-r[2][0], cos_pitch)
+    # roll = zA - zB, yaw = zA + zB with zA = atan2(x + z, w - y), zB = atan2(z - x, w + y)
+    za = math.atan2(x + z, w - y) if (x + z or w - y) else 0.0
+    zb = math.atan2(z - x, w + y) if (z - x or w + y) else 0.0
+    roll, yaw = za - zb, za + zb
+    roll = roll - 2 * math.pi if roll > math.pi else roll + 2 * math.pi if roll < -math.pi else roll
+    yaw = yaw - 2 * math.pi if yaw > math.pi else yaw + 2 * math.pi if yaw < -math.pi else yaw
     return (roll, pitch, yaw)
 
 
