@@ -78,10 +78,10 @@ def test_a_crashing_worker_is_reported_for_its_file_only(tmp_path, write, monkey
     paths = [write(GOOD, f"r{index}.urdf") for index in range(5)]
     real = check.check_file
 
-    def crash_on_r2(path, options=None):
+    def crash_on_r2(path, options=None, target=None):
         if str(path).endswith("r2.urdf"):
             os._exit(3)  # a parser crashing the process (the pool cannot go on)
-        return real(path, options)
+        return real(path, options, target)
 
     monkeypatch.setattr(check, "check_file", crash_on_r2)
     options = check.CheckOptions(jobs=2)
@@ -103,7 +103,7 @@ def test_an_unexpected_error_in_a_worker_is_reported_as_in_process(tmp_path, wri
         def __reduce__(self):
             raise TypeError("no")
 
-    def fail(path, options=None):
+    def fail(path, options=None, target=None):
         raise Unpicklable("boom")
 
     monkeypatch.setattr(check, "check_file", fail)

@@ -348,7 +348,10 @@ def test_xacro_typo_is_located_in_the_macro_body(write):
         '  <xacro:leg side="right"/>\n'
         '</robot>\n', "robot.urdf.xacro")
     found = fired(path, "schema.unknown-attribute")
-    assert [d.line for d in found] == [5, 5]
+    assert [d.line for d in found] == [5]  # one finding per written line (issue 13)...
+    assert found[0].instances == 2  # ...with the two instances' call sites
+    assert [[site.rsplit(":", 1)[1] for site in chain] for chain in found[0].call_sites] == \
+        [["11"], ["12"]]
     assert all(d.path.endswith("robot.urdf.xacro") for d in found)
     assert all("did you mean 'rpy'" in d.message for d in found)
 

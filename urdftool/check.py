@@ -3,6 +3,7 @@ in a pool of forked worker processes (``CheckOptions.jobs``), reports in the ord
 
 from __future__ import annotations
 
+import copy
 import gc
 import os
 import sys
@@ -12,9 +13,17 @@ from pathlib import Path
 from urdftool.config import Config, suppressions
 from urdftool.errors import ToolError
 from urdftool.model import build_robot
-from urdftool.report import Diagnostic, FileReport, Finding, Report
+from urdftool.package import Target, classify, plan, role
+from urdftool.report import (
+    Diagnostic,
+    FileReport,
+    Finding,
+    Report,
+    group_instances,
+    merge_repeats,
+)
 from urdftool.rules import load_all, selected
-from urdftool.source import LoadOptions, discover, load
+from urdftool.source import LoadOptions, load
 
 
 @dataclass
@@ -25,24 +34,30 @@ class CheckOptions:
     config: Config = field(default_factory=Config)
     debug: bool = False
     jobs: int | None = None  # worker processes for several files (None: the CPUs available)
+    changed: bool = False  # changed-files mode: the paths are files a commit changes (issue 13)
 
 
 def _diagnostic(rule_id: str, severity: str, finding: Finding, default_path: str) -> Diagnostic:
     loc = finding.loc
-    message = finding.message
-    if loc is not None and loc.via:
-        message += " (expanded from the macro call at " + ", called from ".join(loc.via) + ")"
-    return Diagnostic(rule_id, finding.severity or severity, message,
+    return Diagnostic(rule_id, finding.severity or severity, finding.message,
                       loc.path if loc is not None else default_path,
                       loc.line if loc is not None else None,
                       loc.column if loc is not None else None,
-                      loc.element if loc is not None else None, finding.hint)
+                      loc.element if loc is not None else None, finding.hint,
+                      call_sites=(tuple(loc.via),) if loc is not None and loc.via else ())
 
 
-def check_file(path: Path | str, options: CheckOptions | None = None) -> FileReport:
-    """All findings for one file. Raises ToolError when the file cannot be read at all."""
+def check_file(path: Path | str, options: CheckOptions | None = None,
+               target: Target | None = None) -> FileReport:
+    """All findings for one file (``target``: with the xacro arguments and packages of its
+    configuration). Raises ToolError when the file cannot be read at all."""
     options = options or CheckOptions()
-    source = load(path, options.load)
+    load_options = options.load
+    if target is not None and (target.args or target.packages):
+        load_options = copy.copy(load_options)  # the command line's values win
+        load_options.xacro_args = {**target.args, **load_options.xacro_args}
+        load_options.packages = {**target.packages, **load_options.packages}
+    source = load(path, load_options)
     robot = build_robot(source)
     select = options.select or options.config.select
     ignore = options.ignore + options.config.ignore
@@ -56,13 +71,19 @@ def check_file(path: Path | str, options: CheckOptions | None = None) -> FileRep
             findings = [Finding(f"internal error in rule {rule.id}: {type(exc).__name__}: {exc}",
                                 None, severity="warning")]
         diagnostics.extend(_diagnostic(rule.id, severity, f, source.path) for f in findings)
-    quiet = {p: suppressions(t) for p, t in source.texts.items()}
+    quiet = {p: suppressions(t, p) for p, t in source.texts.items()}
     diagnostics = [d for d in diagnostics
                    if not (d.line and (quiet.get(d.path, {}).get(d.line, set())
                                        & {d.rule, d.rule.split(".")[0]}))]
+    diagnostics = group_instances(diagnostics)
     diagnostics.sort(key=lambda d: (d.path != source.path, d.path, d.line or 0, d.column or 0,
                                     d.rule))
-    return FileReport(source.path, robot.name, diagnostics, source.texts)
+    report = FileReport(source.path, robot.name, diagnostics, source.texts)
+    report.args = target.args if target is not None else {}
+    report.includes = tuple(sorted({str(Path(p).resolve()) for p in source.texts
+                                    if p != source.path}))
+    report.role = role(source)
+    return report
 
 
 _ENABLED: dict[tuple, list] = {}
@@ -93,7 +114,7 @@ def check_paths(paths: list[str], options: CheckOptions | None = None) -> Report
     """Check every robot file under ``paths``. Raises ToolError when there is nothing to check,
     and the error of the first file (in order) that cannot be checked at all."""
     options = options or CheckOptions()
-    files = discover(paths)
+    files, given = plan(paths, options.changed)
     if not files:
         raise ToolError("no robot files (*.urdf, *.xacro, *.sdf) found in " + ", ".join(paths))
     jobs = min(options.jobs or available_cpus(), len(files))
@@ -104,8 +125,11 @@ def check_paths(paths: list[str], options: CheckOptions | None = None) -> Report
     gc.set_threshold(max(thresholds[0], 20000), *thresholds[1:])
     try:
         if jobs <= 1 or options.debug or not hasattr(os, "fork"):  # --debug: tracebacks here
-            return Report([check_file(f, options) for f in files])
-        return Report(_check_in_workers(files, options, jobs))
+            reports = [check_file(f.path, options, f) for f in files]
+        else:
+            reports = _check_in_workers(files, options, jobs)
+        shown, notes = classify(files, reports, given)
+        return Report(merge_repeats(shown), notes)
     finally:
         gc.set_threshold(*thresholds)
 
@@ -132,7 +156,7 @@ def _worker(path, options: CheckOptions) -> tuple[bool, object]:
     """(True, FileReport) or (False, the exception), so that one file's error comes back as
     that file's result and the pool goes on with the others."""
     try:
-        return True, check_file(path, options)
+        return True, check_file(path.path, options, path)
     except Exception as exc:  # noqa: BLE001 - re-raised in the parent, in file order
         import pickle  # here: only workers need it (start-up of a one-file check)
 
@@ -153,6 +177,7 @@ def _check_in_workers(files: list, options: CheckOptions, jobs: int) -> list[Fil
     from concurrent.futures.process import BrokenProcessPool
 
     context = multiprocessing.get_context("fork")
+    files = [f if isinstance(f, Target) else Target(str(f)) for f in files]
     results: list[tuple[bool, object] | None] = [None] * len(files)
     size = -(-len(files) // (jobs * 4))  # four runs per worker: balance against locality
     with ProcessPoolExecutor(jobs, mp_context=context) as pool:
@@ -182,5 +207,5 @@ def _check_alone(path, options: CheckOptions, context) -> tuple[bool, object]:
         try:
             return pool.submit(_worker, path, options).result()
         except BrokenProcessPool:
-            return False, ToolError(f"{path}: the check of this file crashed its worker "
+            return False, ToolError(f"{path.path}: the check of this file crashed its worker "
                                     "process (run with --jobs 1 --debug to see why)")

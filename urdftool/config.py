@@ -1,85 +1,211 @@
-"""Configuration: ``[tool.urdftool]`` in the nearest ``pyproject.toml`` and inline suppressions.
+"""Configuration: ``[tool.urdftool]`` in a ``pyproject.toml``, or the same keys at the top level
+of a ``urdftool.toml`` (the nearest of either, walking up from the input; a ``pyproject.toml``
+without the table is passed over), and inline ``<!-- urdftool: ignore RULE -->`` comments.
 
 Keys: ``select`` and ``ignore`` (lists of rule ids or families), ``strict`` (bool),
-``severity`` (a table rule-id -> error|warning|info).
+``severity`` (a table rule-id -> error|warning|info), ``entries`` (a list of
+``{ file = "urdf/robot.urdf.xacro", args = { NAME = "VALUE" } }``: the package's entry points,
+the same file possibly with several argument sets), ``packages`` (a table NAME -> DIR for
+``package://NAME`` and ``$(find NAME)``), ``baseline`` (a baseline file). Paths are relative to
+the configuration file's directory. Anything else (an unknown key, a wrong type, an unknown rule
+id) is a ToolError (exit 2) with a did-you-mean.
 """
 
 from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import NamedTuple
 
 from urdftool.errors import ToolError
 
 # compiled on first use (re caches it): most files have no suppression comment
 _SUPPRESS = r"<!--\s*urdftool:\s*ignore\s+([^>]*?)\s*-->"
+_SEVERITIES = ("error", "warning", "info")
+
+
+class Entry(NamedTuple):
+    """An entry point of a package: a file and the xacro arguments to expand it with."""
+
+    path: Path  # absolute
+    args: dict[str, str]
 
 
 class Config:
-    __slots__ = ("ignore", "path", "select", "severity", "strict")
+    __slots__ = ("baseline", "entries", "ignore", "packages", "path", "select", "severity",
+                 "strict")
 
     def __init__(self, select: list[str] | None = None, ignore: list[str] | None = None,
                  strict: bool = False, severity: dict[str, str] | None = None,
-                 path: Path | None = None):
+                 path: Path | None = None, entries: list[Entry] | None = None,
+                 packages: dict[str, str] | None = None, baseline: Path | None = None):
         self.select = select if select is not None else []
         self.ignore = ignore if ignore is not None else []
         self.strict = strict
         self.severity = severity if severity is not None else {}
-        self.path = path
+        self.path = path  # the configuration file, None without one
+        self.entries = entries if entries is not None else []
+        self.packages = packages if packages is not None else {}  # NAME -> absolute DIR
+        self.baseline = baseline
 
 
-def find_pyproject(start: Path) -> Path | None:
+KEYS = ("select", "ignore", "strict", "severity", "entries", "packages", "baseline")
+
+
+def find_config(start: Path, memo: dict | None = None) -> tuple[Path, dict] | None:
+    """The nearest configuration above ``start``: (its file, its table). ``memo`` (directory ->
+    what it holds) spares reading the same directories again during one run."""
+    memo = memo if memo is not None else {}
     directory = start.resolve()
     directory = directory if directory.is_dir() else directory.parent
     for parent in (directory, *directory.parents):
-        candidate = parent / "pyproject.toml"
-        if candidate.is_file():
-            return candidate
+        found = memo.get(parent)
+        if found is None:
+            found = memo[parent] = _config_in(parent)
+        if found:
+            return found
     return None
 
 
-def load_config(start: Path) -> Config:
-    """The [tool.urdftool] table of the nearest pyproject.toml (empty Config if none)."""
-    pyproject = find_pyproject(start)
-    if pyproject is None:
-        return Config()
+def _config_in(directory: Path) -> tuple[Path, dict] | bool:
+    for name in ("urdftool.toml", "pyproject.toml"):
+        candidate = directory / name
+        if not candidate.is_file():
+            continue
+        data = _read_toml(candidate)
+        if name == "urdftool.toml":
+            return candidate, data
+        tool = data.get("tool", {})
+        if isinstance(tool, dict) and "urdftool" in tool:
+            table = tool["urdftool"]
+            if not isinstance(table, dict):
+                raise ToolError(f"{candidate}: [tool.urdftool] must be a table")
+            return candidate, table
+    return False
+
+
+def _read_toml(path: Path) -> dict:
     try:
         import tomllib
     except ImportError:  # Python 3.10
         import tomli as tomllib  # type: ignore[no-redef]
     try:
-        data = tomllib.loads(pyproject.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
-        raise ToolError(f"{pyproject}: cannot read configuration: {exc}") from None
-    table = data.get("tool", {}).get("urdftool", {})
-    if not isinstance(table, dict):
-        raise ToolError(f"{pyproject}: [tool.urdftool] must be a table")
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError, UnicodeDecodeError) as exc:
+        raise ToolError(f"{path}: cannot read configuration: {exc}") from None
+
+
+def load_config(start: Path) -> Config:
+    """The configuration that applies to ``start`` (an empty Config if none)."""
+    found = find_config(start)
+    if found is None:
+        return Config()
+    path, table = found
+    return parse_config(table, path)
+
+
+def parse_config(table: dict, path: Path) -> Config:
+    """Validate one configuration table; ToolError on anything unknown or mistyped."""
+    where = f"{path}: " + ("" if path.name == "urdftool.toml" else "tool.urdftool.")
+    base = path.parent
+    for key in table:
+        if key not in KEYS:
+            raise ToolError(f"{where}{key}: unknown key{did_you_mean(key, KEYS)}")
 
     def strings(key: str) -> list[str]:
         value = table.get(key, [])
         if isinstance(value, str):
             value = [value]
         if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-            raise ToolError(f"{pyproject}: tool.urdftool.{key} must be a list of rule ids")
+            raise ToolError(f"{where}{key} must be a list of rule ids or families")
+        check_rule_ids(value, f"{where}{key}")
         return value
 
+    strict = table.get("strict", False)
+    if not isinstance(strict, bool):
+        raise ToolError(f"{where}strict must be true or false, not {strict!r}")
     severity = table.get("severity", {})
-    if not isinstance(severity, dict) or not all(
-            v in ("error", "warning", "info") for v in severity.values()):
-        raise ToolError(f"{pyproject}: tool.urdftool.severity maps rule ids to error|warning|info")
-    return Config(strings("select"), strings("ignore"), bool(table.get("strict", False)),
-                  dict(severity), pyproject)
+    if not isinstance(severity, dict):
+        raise ToolError(f"{where}severity must be a table: rule id = \"error|warning|info\"")
+    check_rule_ids(list(severity), f"{where}severity", families=False)
+    for rule_id, value in severity.items():
+        if value not in _SEVERITIES:
+            raise ToolError(f"{where}severity.{rule_id}: {value!r} is not error, warning or "
+                            f"info{did_you_mean(str(value), _SEVERITIES)}")
+    packages = table.get("packages", {})
+    if not isinstance(packages, dict) or not all(isinstance(v, str) for v in packages.values()):
+        raise ToolError(f"{where}packages must be a table: NAME = \"DIR\"")
+    baseline = table.get("baseline")
+    if baseline is not None and not isinstance(baseline, str):
+        raise ToolError(f"{where}baseline must be a file name (a string)")
+    return Config(strings("select"), strings("ignore"), strict, dict(severity), path,
+                  _entries(table.get("entries", []), where, base),
+                  {name: str((base / directory).resolve()) for name, directory in packages.items()},
+                  (base / baseline) if baseline is not None else None)
 
 
-def suppressions(text: str) -> dict[int, set[str]]:
+def _entries(value, where: str, base: Path) -> list[Entry]:
+    shape = 'entries = [{ file = "urdf/robot.urdf.xacro", args = { NAME = "VALUE" } }, ...]'
+    if not isinstance(value, list):
+        raise ToolError(f"{where}entries must be a list: {shape}")
+    entries = []
+    for number, item in enumerate(value, start=1):
+        if isinstance(item, str):
+            item = {"file": item}
+        if not isinstance(item, dict) or not isinstance(item.get("file"), str):
+            raise ToolError(f"{where}entries[{number}] needs a file: {shape}")
+        for key in item:
+            if key not in ("file", "args"):
+                raise ToolError(f"{where}entries[{number}].{key}: unknown key"
+                                f"{did_you_mean(key, ('file', 'args'))}")
+        args = item.get("args", {})
+        if not isinstance(args, dict):
+            raise ToolError(f"{where}entries[{number}].args must be a table: NAME = \"VALUE\"")
+        file = (base / item["file"]).resolve()
+        if not file.is_file():
+            raise ToolError(f"{where}entries[{number}]: {item['file']}: no such file")
+        # xacro arguments are strings; TOML booleans and numbers are written as xacro reads them
+        entries.append(Entry(file, {str(k): _arg_text(v) for k, v in args.items()}))
+    return entries
+
+
+def _arg_text(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return str(value)
+
+
+def did_you_mean(name: str, candidates) -> str:
+    import difflib  # error path only
+
+    close = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def check_rule_ids(ids, where: str, families: bool = True) -> None:
+    """ToolError for the first id that names no rule (nor, with ``families``, a family)."""
+    from urdftool.rules import FAMILIES, load_all
+
+    registry = load_all()
+    for rule_id in ids:
+        if rule_id in registry or (families and rule_id in FAMILIES):
+            continue
+        known = list(registry) + (list(FAMILIES) if families else [])
+        raise ToolError(f"{where}: unknown rule {rule_id!r}{did_you_mean(rule_id, known)}")
+
+
+def suppressions(text: str, path: str | None = None) -> dict[int, set[str]]:
     """Line -> rule ids or families suppressed there. A comment suppresses its own line and the
-    line below it ("on or above the line")."""
+    line below it ("on or above the line"). A comment naming no known rule or family is a
+    ToolError (when ``path`` is given, located there)."""
     result: dict[int, set[str]] = {}
     if "urdftool:" not in text:
         return result
     for number, line in enumerate(text.splitlines(), start=1):
         for match in re.finditer(_SUPPRESS, line):
             ids = {part for part in re.split(r"[\s,]+", match.group(1)) if part}
+            if path is not None:
+                check_rule_ids(sorted(ids), f"{path}:{number}: urdftool: ignore")
             for target in (number, number + 1):
                 result.setdefault(target, set()).update(ids)
     return result

@@ -36,13 +36,103 @@ class Diagnostic(NamedTuple):
     column: int | None
     element: str | None
     hint: str | None
+    # inside a macro body: how many instances share this finding, and the call sites of each
+    # (innermost call first, as "path:line")
+    instances: int = 1
+    call_sites: tuple[tuple[str, ...], ...] = ()
 
     def to_json(self) -> dict:
-        return self._asdict()
+        data = self._asdict()
+        if not self.call_sites:
+            del data["instances"], data["call_sites"]
+        else:
+            data["call_sites"] = [list(chain) for chain in self.call_sites]
+        return data
+
+
+def sites_text(call_sites) -> str:
+    """What a message says of the macro instances it was found in."""
+    if not call_sites:
+        return ""
+    if len(call_sites) == 1:
+        return " (expanded from the macro call at " + ", called from ".join(call_sites[0]) + ")"
+    shown = ", ".join(" from ".join(chain) for chain in call_sites[:8])
+    more = f", and {len(call_sites) - 8} more" if len(call_sites) > 8 else ""
+    return f" (in {len(call_sites)} instances: {shown}{more})"
+
+
+def _shape(message: str) -> str:
+    """A message with its numbers and quoted names masked: the same finding in two macro
+    instances (other names, other values) has the same shape."""
+    import re
+
+    return re.sub(r"'[^']*'|\"[^\"]*\"|[-+]?\d[\d.eE+-]*", "#", message)
+
+
+def group_instances(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
+    """One diagnostic per written line: the findings that macro instances share (same rule,
+    place and shape of message, other call sites) become one, with the instances and their call
+    sites. Diagnostics carry their own call site and no suffix yet; the message gets it here."""
+    groups: dict[tuple, list[Diagnostic]] = {}
+    order: list[tuple] = []
+    for d in diagnostics:
+        if not d.call_sites:
+            key: tuple = (id(d),)
+        else:
+            base = (d.rule, d.severity, d.path, d.line, d.column, _shape(d.message))
+            number = 0  # two findings of one instance at one place stay two
+            while (base, number) in groups and any(
+                    g.call_sites == d.call_sites for g in groups[(base, number)]):
+                number += 1
+            key = (base, number)
+        if key not in groups:
+            groups[key] = []
+            order.append(key)
+        groups[key].append(d)
+    result = []
+    for key in order:
+        members = groups[key]
+        first = members[0]
+        if not first.call_sites:
+            result.append(first)
+            continue
+        sites = tuple(dict.fromkeys(site for d in members for site in d.call_sites))
+        result.append(first._replace(message=first.message + sites_text(sites),
+                                     instances=len(sites), call_sites=sites))
+    return result
+
+
+def merge_repeats(files: list["FileReport"]) -> list["FileReport"]:
+    """A finding in a file that several checks read (a fragment of several entries, an entry
+    with several argument sets) is kept once, in the first report, with the instances of all."""
+    first: dict[tuple, tuple[FileReport, int]] = {}
+    for report in files:
+        kept = []
+        for d in report.diagnostics:
+            base = d.message[:len(d.message) - len(sites_text(d.call_sites))]
+            key = (d.rule, d.severity, d.path, d.line, d.column,
+                   _shape(base) if d.call_sites else base)
+            if key not in first:
+                first[key] = (report, len(kept))
+                kept.append(d)
+                continue
+            owner, index = first[key]
+            if owner is report:  # two findings of one check at one place: both stay
+                kept.append(d)
+                continue
+            seen = owner.diagnostics[index] if owner is not report else kept[index]
+            sites = tuple(dict.fromkeys(seen.call_sites + d.call_sites))
+            if sites != seen.call_sites:
+                seen_base = seen.message[:len(seen.message) - len(sites_text(seen.call_sites))]
+                owner.diagnostics[index] = seen._replace(
+                    message=seen_base + sites_text(sites), instances=len(sites),
+                    call_sites=sites)
+        report.diagnostics = kept
+    return files
 
 
 class FileReport:
-    __slots__ = ("diagnostics", "path", "robot", "texts")
+    __slots__ = ("args", "diagnostics", "includes", "path", "robot", "role", "texts")
 
     def __init__(self, path: str, robot: str | None, diagnostics: list[Diagnostic] | None = None,
                  texts: dict[str, str] | None = None):
@@ -50,17 +140,24 @@ class FileReport:
         self.robot = robot
         self.diagnostics = diagnostics if diagnostics is not None else []
         self.texts = texts if texts is not None else {}  # for source excerpts
+        self.args: dict[str, str] = {}  # the xacro arguments of this check (configured entries)
+        self.includes: tuple[str, ...] = ()  # every other file the check read (resolved paths)
+        self.role = "entry"  # or "fragment": holds only definitions (urdftool.package)
 
     def to_json(self) -> dict:
-        return {"path": self.path, "robot": self.robot,
+        data = {"path": self.path, "robot": self.robot,
                 "diagnostics": [d.to_json() for d in self.diagnostics]}
+        if self.args:
+            data["args"] = self.args
+        return data
 
 
 class Report:
-    __slots__ = ("files",)
+    __slots__ = ("files", "notes")
 
-    def __init__(self, files: list[FileReport] | None = None):
+    def __init__(self, files: list[FileReport] | None = None, notes: list[str] | None = None):
         self.files = files if files is not None else []
+        self.notes = notes if notes is not None else []  # one line each, for stderr
 
     def count(self, severity: str) -> int:
         return sum(d.severity == severity for f in self.files for d in f.diagnostics)

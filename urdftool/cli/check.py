@@ -39,9 +39,17 @@ from urdftool.cli import (
 @click.option("-j", "--jobs", type=click.IntRange(min=1), metavar="N",
               help="Check files in N processes (default: the CPUs available; 1: in this "
                    "process).")
+@click.option("--changed", is_flag=True,
+              help="The PATHs are changed files (pre-commit, pull requests): check every entry "
+                   "of their packages that reads one of them; report the findings in them.")
+@click.option("--baseline", "baseline", type=click.Path(dir_okay=False), metavar="FILE",
+              help="Fail only on findings not recorded in FILE (see --write-baseline); say how "
+                   "many recorded ones are gone. Default: the configuration's `baseline`.")
+@click.option("--write-baseline", "write_baseline", type=click.Path(dir_okay=False),
+              metavar="FILE", help="Record today's findings in FILE and exit 0.")
 @click.pass_context
 def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, in_place, sdf_model,
-            model_paths, no_cache, jobs):
+            model_paths, no_cache, jobs, changed, baseline, write_baseline):
     """Lint robot descriptions (*.urdf, *.xacro, *.urdf.xacro, *.sdf); all findings in one pass.
 
     Exit code 0: no errors (with --strict: no warnings either); 1: findings; 2: could not check.
@@ -60,8 +68,13 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, in_
     def split(values):
         return [part.strip() for value in values for part in value.split(",") if part.strip()]
 
+    from urdftool.config import check_rule_ids
+
+    check_rule_ids(split(select), "--select")
+    check_rule_ids(split(ignore), "--ignore")
     options = CheckOptions(load_options(packages, xacro_args), split(select), split(ignore),
                            config, ctx.obj.get("debug", False))
+    options.changed = changed
     options.load.sdf_model = sdf_model
     options.load.sdf_model_paths = list(model_paths)
     options.jobs = jobs
@@ -77,6 +90,20 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, in_
         write_output(fixed_text(paths[0]), output or paths[0], inputs=[paths[0]],
                      in_place=in_place)
     report = check_paths(paths, options)
+    if write_baseline:
+        from urdftool.baseline import write_baseline as write
+
+        write(report, Path(write_baseline))
+        click.echo(f"baseline: {len(report.diagnostics())} finding(s) recorded in "
+                   f"{write_baseline}", err=True)
+        ctx.exit(0)
+    baseline = Path(baseline) if baseline else config.baseline
+    if baseline is not None:
+        from urdftool.baseline import apply_baseline
+
+        apply_baseline(report, baseline)
+    for note in report.notes:
+        click.echo(note, err=True)
     if fmt == "json":
         from urdftool.report import format_json
 

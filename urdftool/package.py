@@ -1,0 +1,194 @@
+"""Description packages: which files of a check run are entries (they make a robot) and which
+are fragments (files the entries include, or files holding only definitions), from what the real
+expansion read; and changed-files mode (issue 13).
+
+The plan (``plan``): every robot file under the given directories, the configured ``entries``
+with their argument sets (a configured file is expanded with those, not alone), and, in
+changed-files mode, every robot file of the packages the given files belong to.
+
+After the files are checked, ``classify`` keeps:
+
+- entries: configured ones, and files whose expansion has links (or anything other than
+  definitions) that no other entry reads;
+- lone fragments, that no entry reads: only what can be checked alone (``ALONE_SKIPS`` are not:
+  they need the includer's links and joints; "the robot has no links" is never said of them);
+- not the files an entry reads: their findings come through the entry, at their own lines.
+
+In changed-files mode, only the checks that read a given file are kept, and only findings in the
+given files are reported; how many lie elsewhere is said in a note.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import NamedTuple
+
+from urdftool.config import find_config, parse_config
+from urdftool.errors import ToolError
+from urdftool.report import FileReport
+from urdftool.source import ROBOT_SUFFIXES
+
+# what a file that only defines things holds at its top level, once expanded
+DEFINITION_TAGS = frozenset({"material", "gazebo", "ros2_control", "transmission",
+                             "property", "macro", "include", "arg"})  # the last: old unprefixed xacro
+# rules (or families) that need the whole robot: never run on a fragment alone
+ALONE_SKIPS = ("structure", "gazebo", "transmission", "mimic", "material.undefined")
+
+
+class Target(NamedTuple):
+    """One check of a run: a file, its xacro arguments and packages (from the configuration)."""
+
+    path: str
+    args: dict[str, str] = {}
+    packages: dict[str, str] = {}
+    configured: bool = False  # listed in ``entries``: always an entry
+
+
+def robot_files(directory: Path) -> list[Path]:
+    """Every ``*.urdf``, ``*.xacro``, ``*.sdf`` under ``directory`` (hidden ones skipped),
+    in a stable order."""
+    found = []
+    for dirpath, dirnames, filenames in os.walk(directory):
+        dirnames[:] = sorted(d for d in dirnames if not d.startswith("."))
+        found.extend(Path(dirpath) / name for name in sorted(filenames)
+                     if name.endswith(ROBOT_SUFFIXES))
+    return found
+
+
+def package_root(path: Path) -> Path:
+    """The package a file belongs to: the nearest directory above it with a ``package.xml`` or
+    a configuration; else the working directory when the file is inside it; else its directory."""
+    file = path.resolve()
+    found = find_config(file)
+    config_dir = found[0].parent if found else None
+    for parent in file.parents:
+        if (parent / "package.xml").is_file() or parent == config_dir:
+            return parent
+    cwd = Path.cwd().resolve()
+    return cwd if cwd in file.parents else file.parent
+
+
+def _config_of(path: Path, memo: dict):
+    """The parsed configuration that applies to ``path`` (memoised per file), or None."""
+    found = find_config(path, memo.setdefault("directories", {}))
+    if found is None:
+        return None
+    configs = memo.setdefault("configs", {})
+    if found[0] not in configs:
+        configs[found[0]] = parse_config(found[1], found[0])
+    return configs[found[0]]
+
+
+def plan(paths: list[str], changed: bool = False) -> tuple[list[Target], set[str] | None]:
+    """The targets of a run, and in changed-files mode the given files (resolved)."""
+    files: list[Path] = []
+    given: set[str] | None = set() if changed else None
+    for raw in paths:
+        path = Path(raw)
+        if path.is_dir():
+            files.extend(robot_files(path))
+        elif path.exists():
+            files.append(path)
+            if given is not None:
+                given.add(str(path.resolve()))
+        else:
+            raise ToolError(f"{raw}: no such file or directory")
+    if given is not None:
+        roots = sorted({package_root(Path(p)) for p in given})
+        known = {str(f.resolve()) for f in files}
+        for root in roots:
+            relative = _shown(root)
+            for found in robot_files(relative):
+                if str(found.resolve()) not in known:
+                    known.add(str(found.resolve()))
+                    files.append(found)
+    configs: dict = {}
+    targets: list[Target] = []
+    configured: set[str] = set()
+    for file in files:
+        config = _config_of(file, configs)
+        resolved = str(file.resolve())
+        packages = config.packages if config is not None else {}
+        entries = [e for e in config.entries if str(e.path) == resolved] if config else []
+        if entries:
+            configured.add(resolved)
+            targets.extend(Target(str(file), e.args, packages, True) for e in entries)
+        else:
+            targets.append(Target(str(file), {}, packages))
+    # configured entries not among the files (outside the directories given): added in
+    # changed-files mode (they may read a given file)
+    if given is not None:
+        for config in configs.get("configs", {}).values():
+            for entry in config.entries:
+                if str(entry.path) not in configured:
+                    targets.append(Target(str(_shown(entry.path)), entry.args, config.packages,
+                                          True))
+    return targets, given
+
+
+def _shown(path: Path) -> Path:
+    """``path`` relative to the working directory when inside it (as findings show paths)."""
+    try:
+        return path.resolve().relative_to(Path.cwd().resolve())
+    except ValueError:
+        return path
+
+
+def classify(targets: list[Target], reports: list[FileReport],
+             given: set[str] | None = None) -> tuple[list[FileReport], list[str]]:
+    """The reports to show (entries, lone fragments restricted to what can be checked alone;
+    in changed-files mode those that read a given file, restricted to findings in the given
+    files), and notes for the user."""
+    resolved = [str(Path(t.path).resolve()) for t in targets]
+    entries = [i for i, (t, r) in enumerate(zip(targets, reports))
+               if t.configured or r.role == "entry"]
+    read_by_entry: dict[str, set[int]] = {}
+    for i in entries:
+        for path in reports[i].includes:
+            read_by_entry.setdefault(path, set()).add(i)
+    shown: list[int] = []
+    for i, (target, report) in enumerate(zip(targets, reports)):
+        if target.configured:
+            shown.append(i)
+        elif resolved[i] in read_by_entry:
+            continue  # a fragment of an entry (or an entry included by another)
+        elif report.role == "entry":
+            shown.append(i)
+        elif not any(resolved[i] in reports[j].includes and resolved[j] not in reports[i].includes
+                     for j in range(len(reports)) if j != i):
+            report.diagnostics = [d for d in report.diagnostics if not _needs_robot(d.rule)]
+            shown.append(i)
+    notes: list[str] = []
+    if given is not None:
+        kept, elsewhere = [], 0
+        for i in shown:
+            report = reports[i]
+            if not ({resolved[i], *report.includes} & given):
+                continue
+            inside = [d for d in report.diagnostics if str(Path(d.path).resolve()) in given]
+            elsewhere += len(report.diagnostics) - len(inside)
+            report.diagnostics = inside
+            kept.append(i)
+        shown = kept
+        if elsewhere:
+            notes.append(f"{elsewhere} finding(s) in files that were not given are not shown "
+                         "(check the package to see them)")
+    return [reports[i] for i in shown], notes
+
+
+def _needs_robot(rule_id: str) -> bool:
+    return rule_id in ALONE_SKIPS or rule_id.split(".", 1)[0] in ALONE_SKIPS
+
+
+def role(source) -> str:
+    """'entry' when the expanded file is a robot (or not xacro at all), 'fragment' when it
+    holds only definitions (macros, properties, materials, gazebo, ros2_control)."""
+    root = source.root
+    if source.kind != "xacro" or root is None:
+        return "entry"
+    for child in root:
+        tag = child.tag
+        if isinstance(tag, str) and tag not in DEFINITION_TAGS:
+            return "entry"
+    return "fragment"
