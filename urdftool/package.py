@@ -58,15 +58,14 @@ def robot_files(directory: Path) -> list[Path]:
 
 def package_root(path: Path) -> Path:
     """The package a file belongs to: the nearest directory above it with a ``package.xml`` or
-    a configuration; else the working directory when the file is inside it; else its directory."""
+    a configuration (an empty ``urdftool.toml`` marks one); else the file's own directory."""
     file = path.resolve()
     found = find_config(file)
     config_dir = found[0].parent if found else None
     for parent in file.parents:
         if (parent / "package.xml").is_file() or parent == config_dir:
             return parent
-    cwd = Path.cwd().resolve()
-    return cwd if cwd in file.parents else file.parent
+    return file.parent
 
 
 def _config_of(path: Path, memo: dict):

@@ -36,6 +36,8 @@ def resolved(path: Path | str) -> str:
     """``str(Path(path).resolve())``, memoised by the name as given: the file system does not
     change during a run, and resolving walks every component (an lstat each)."""
     key = os.fspath(path)
+    if not os.path.isabs(key):  # a relative name means another file after a chdir
+        key = os.path.join(os.getcwd(), key)
     found = _REALPATHS.get(key)
     if found is None:
         found = _REALPATHS[key] = _resolve(key)
