@@ -110,9 +110,11 @@ def available_cpus() -> int:
         return os.cpu_count() or 1
 
 
-def check_paths(paths: list[str], options: CheckOptions | None = None) -> Report:
+def check_paths(paths: list[str], options: CheckOptions | None = None,
+                progress=None) -> Report:
     """Check every robot file under ``paths``. Raises ToolError when there is nothing to check,
-    and the error of the first file (in order) that cannot be checked at all."""
+    and the error of the first file (in order) that cannot be checked at all. ``progress(done,
+    total)`` is called as files are done (the CLI's progress display)."""
     options = options or CheckOptions()
     files, given = plan(paths, options.changed)
     if not files:
@@ -125,9 +127,13 @@ def check_paths(paths: list[str], options: CheckOptions | None = None) -> Report
     gc.set_threshold(max(thresholds[0], 20000), *thresholds[1:])
     try:
         if jobs <= 1 or options.debug or not hasattr(os, "fork"):  # --debug: tracebacks here
-            reports = [check_file(f.path, options, f) for f in files]
+            reports = []
+            for file in files:
+                reports.append(check_file(file.path, options, file))
+                if progress is not None:
+                    progress(len(reports), len(files))
         else:
-            reports = _check_in_workers(files, options, jobs)
+            reports = _check_in_workers(files, options, jobs, progress)
         shown, notes = classify(files, reports, given)
         return Report(merge_repeats(shown), notes)
     finally:
@@ -167,7 +173,8 @@ def _worker(path, options: CheckOptions) -> tuple[bool, object]:
         return False, exc
 
 
-def _check_in_workers(files: list, options: CheckOptions, jobs: int) -> list[FileReport]:
+def _check_in_workers(files: list, options: CheckOptions, jobs: int,
+                      progress=None) -> list[FileReport]:
     """``check_file`` of every file in ``jobs`` forked processes, in runs of neighbouring files
     (a directory's robots share meshes: one worker reads them). A worker that dies (a crash in
     a parser, the OOM killer) breaks the pool: the files it left unchecked are then checked one
@@ -188,6 +195,8 @@ def _check_in_workers(files: list, options: CheckOptions, jobs: int) -> list[Fil
                 results[start:start + size] = future.result()
             except BrokenProcessPool:
                 pass
+            if progress is not None:
+                progress(min(start + size, len(files)), len(files))
     for index, path in enumerate(files):
         if results[index] is None:
             results[index] = _check_alone(path, options, context)

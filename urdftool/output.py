@@ -4,21 +4,25 @@ from __future__ import annotations
 
 import os
 import sys
-import tempfile
 from pathlib import Path
 
 from urdftool.errors import ToolError
 
 
-def write_output(text: str, output: str | None, inputs: list[str] = (), in_place: bool = False) -> None:
+def write_output(text: str, output: str | None, inputs: list[str] = (), in_place: bool = False,
+                 offer_in_place: bool = True) -> None:
     """Print ``text`` or write it to ``output`` (temp file + rename). Refuses to overwrite one of
-    ``inputs`` unless ``in_place``."""
+    ``inputs`` unless ``in_place`` (the refusal suggests ``--in-place`` when the command has it:
+    ``offer_in_place``)."""
     if output is None or output == "-":
         sys.stdout.write(text)
         return
+    import tempfile  # here: a report on stdout (the usual case) needs none of it
+
     target = Path(output)
     if not in_place and any(target.resolve() == Path(i).resolve() for i in inputs):
-        raise ToolError(f"{output}: refusing to overwrite an input file (use --in-place)")
+        raise ToolError(f"{output}: refusing to overwrite an input file"
+                        + (" (use --in-place)" if offer_in_place else ""))
     directory = target.resolve().parent
     if not directory.is_dir():
         raise ToolError(f"{output}: directory {directory} does not exist")

@@ -1,7 +1,8 @@
-"""Diagnostics, the report of a ``check`` run, and its formatters (text, json, sarif, github).
-Plain records (no dataclasses): this module is imported by every ``urdftool check``.
+"""Diagnostics, the report of a ``check`` run, and its formatters (text, json, sarif, github,
+statistics). Plain records (no dataclasses): this module is imported by every ``urdftool check``.
 
-Formatters return strings; the CLI prints them. Floats in machine output are never rounded.
+Formatters return strings; the CLI prints them. Floats in machine output are never rounded; file
+content in human output goes through ``urdftool.display`` (escaped, one location format).
 """
 
 
@@ -179,14 +180,21 @@ class Report:
 
 
 def format_json(report: Report) -> str:
-    return json.dumps(report.to_json(), indent=2)
+    from urdftool.display import json_safe
+
+    return json_safe(json.dumps(report.to_json(), indent=2))
 
 
 def format_github(report: Report) -> str:
-    """GitHub Actions workflow commands (::error file=...,line=...::message)."""
+    """GitHub Actions workflow commands (``::error file=...,line=...::message``), escaped as
+    GitHub documents: ``%``, CR and LF in the message; also ``:`` and ``,`` in properties.
+    Other control characters are shown as ``\\x1b``... (``display.clean``)."""
+    from urdftool.display import clean
+
     level = {"error": "error", "warning": "warning", "info": "notice"}
 
     def escape(value: str, prop: bool = False) -> str:
+        value = clean(value, newlines=True)
         value = value.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
         return value.replace(":", "%3A").replace(",", "%2C") if prop else value
 
@@ -203,13 +211,41 @@ def format_github(report: Report) -> str:
     return "\n".join(lines)
 
 
-def format_sarif(report: Report, rule_docs: dict[str, str] | None = None) -> str:
-    """SARIF 2.1.0, one run, rules listed in the driver."""
-    level = {"error": "error", "warning": "warning", "info": "note"}
-    rule_ids = sorted({d.rule for d in report.diagnostics()})
-    rules = [{"id": r, "shortDescription": {"text": (rule_docs or {}).get(r, r)}} for r in rule_ids]
+_SARIF_LEVEL = {"error": "error", "warning": "warning", "info": "note"}
+
+
+def _sarif_rule(rule_id: str, rule) -> dict:
+    """A SARIF reportingDescriptor from a rule's registration (``rules.Rule``: summary, doc,
+    bad and good examples); only the id when the rule is unknown."""
+    if rule is None:
+        return {"id": rule_id, "shortDescription": {"text": rule_id}}
+    doc = " ".join(rule.doc.split()) or rule.summary
+    text, markdown = [doc], [doc]
+    for title, example in (("Triggers it", rule.bad), ("Use instead", rule.good)):
+        if example:
+            text.append(f"{title}:\n{example}")
+            markdown.append(f"{title}:\n\n```xml\n{example}\n```")
+    return {"id": rule_id, "name": rule_id.split(".", 1)[1],
+            "shortDescription": {"text": rule.summary},
+            "fullDescription": {"text": doc},
+            "help": {"text": "\n\n".join(text), "markdown": "\n\n".join(markdown)},
+            "defaultConfiguration": {"level": _SARIF_LEVEL[rule.severity]},
+            "properties": {"tags": [rule.family]}}
+
+
+def format_sarif(report: Report | None, rules: dict | None = None,
+                 tool_error: str | None = None) -> str:
+    """SARIF 2.1.0, one run: the rules of its results (description and help from the rule
+    docs, ``rules`` mapping id to ``rules.Rule``), the results, and an invocation that says
+    whether the run succeeded; ``tool_error`` (a file that could not be read...) is a
+    ``toolExecutionNotification`` of a failed invocation."""
+    from urdftool.display import json_safe
+
+    diagnostics = report.diagnostics() if report is not None else []
+    rule_ids = sorted({d.rule for d in diagnostics})
+    index = {rule_id: i for i, rule_id in enumerate(rule_ids)}
     results = []
-    for d in report.diagnostics():
+    for d in diagnostics:
         region = {}
         if d.line:
             region["startLine"] = d.line
@@ -219,55 +255,102 @@ def format_sarif(report: Report, rule_docs: dict[str, str] | None = None) -> str
         if region:
             location["physicalLocation"]["region"] = region
         message = d.message + (f" Fix: {d.hint}" if d.hint else "")
-        results.append({"ruleId": d.rule, "ruleIndex": rule_ids.index(d.rule),
-                        "level": level[d.severity], "message": {"text": message},
+        results.append({"ruleId": d.rule, "ruleIndex": index[d.rule],
+                        "level": _SARIF_LEVEL[d.severity], "message": {"text": message},
                         "locations": [location]})
+    invocation = {"executionSuccessful": tool_error is None}
+    if tool_error is not None:
+        invocation["toolExecutionNotifications"] = [
+            {"level": "error", "message": {"text": tool_error}}]
     sarif = {
         "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
         "version": "2.1.0",
-        "runs": [{"tool": {"driver": {"name": "urdftool", "version": __version__,
-                                      "informationUri": "https://pypi.org/project/urdftool/",
-                                      "rules": rules}},
+        "runs": [{"tool": {"driver": {
+                      "name": "urdftool", "version": __version__,
+                      "informationUri": "https://pypi.org/project/urdftool/",
+                      "rules": [_sarif_rule(r, (rules or {}).get(r)) for r in rule_ids]}},
+                  "invocations": [invocation],
                   "results": results}],
     }
-    return json.dumps(sarif, indent=2)
+    return json_safe(json.dumps(sarif, indent=2))
 
 
-def render_text(report: Report, make_console) -> None:
-    """Human output on a rich console (``make_console()``): file:line:col, severity, rule,
-    message, the source line with a caret, the hint; then a summary line. A report without
-    findings is the summary line alone, written without rich: importing rich would be half the
-    start-up of a clean run (a pre-commit hook's usual case)."""
+def format_statistics(report: Report, as_json: bool = False, rules: dict | None = None) -> str:
+    """Findings counted per rule and severity (``--statistics``, like ruff's), most frequent
+    first: text columns, or a JSON list of ``{"rule", "severity", "count", "summary"}``."""
+    counts: dict[tuple[str, str], int] = {}
+    for d in report.diagnostics():
+        counts[d.rule, d.severity] = counts.get((d.rule, d.severity), 0) + 1
+    rows = sorted(counts.items(), key=lambda item: (-item[1], item[0][0],
+                                                     SEVERITIES.index(item[0][1])))
+
+    def summary(rule_id):
+        rule = (rules or {}).get(rule_id)
+        return rule.summary if rule is not None else ""
+
+    if as_json:
+        return json.dumps([{"rule": r, "severity": s, "count": n, "summary": summary(r)}
+                           for (r, s), n in rows], indent=2)
+    if not rows:
+        return ""
+    width = max(len(str(n)) for n in counts.values())
+    rule_width = max(len(r) for r, _ in counts)
+    return "\n".join(f"{n:>{width}}  {s:<7}  {r:<{rule_width}}  {summary(r)}".rstrip()
+                     for (r, s), n in rows)
+
+
+def summary_line(report: Report, show_info: bool = True, colour: bool = False) -> str:
+    """``N file(s): E error(s), W warning(s), I info``; red, yellow or green with ``colour``."""
     s = report.summary()
-    colour = "red" if s["errors"] else ("yellow" if s["warnings"] else "green")
-    summary = (f"{s['files']} file(s): {s['errors']} error(s), {s['warnings']} warning(s), "
-               f"{s['infos']} info")
-    if not any(file.diagnostics for file in report.files):
-        import os
+    line = (f"{s['files']} file(s): {s['errors']} error(s), {s['warnings']} warning(s), "
+            f"{s['infos']} info")
+    if s["infos"] and not show_info:
+        line += " (listed with --show-info)"
+    if not colour:
+        return line
+    import click
+
+    return click.style(line, fg="red" if s["errors"] else "yellow" if s["warnings"] else "green")
+
+
+def render_text(report: Report, show_info: bool = False, colour: bool = False,
+                summary: bool = True) -> str:
+    """Human output: each error and warning (and info with ``show_info``) as
+    ``path:line:col: severity rule: message`` (``display.diagnostic_line``), the source line
+    with a caret, the hint; then the summary line. File content is escaped
+    (``display.clean``). A report without listed findings is the summary line alone, made
+    without importing ``display`` (a clean run is a pre-commit hook's usual case)."""
+    shown = SEVERITIES if show_info else ("error", "warning")
+    lines = []
+    listed = [(file, d) for file in report.files for d in file.diagnostics if d.severity in shown]
+    if listed:
+        from urdftool.display import SEVERITY_STYLE, clean, diagnostic_line
 
         import click
 
-        colour_on = None if not os.environ.get("NO_COLOR") else False  # None: when a terminal
-        click.echo(click.style(summary, fg=colour), color=colour_on)
-        return
-    from rich.markup import escape
-    from rich.text import Text
+        def style(text, **how):
+            return click.style(text, **how) if colour else text
 
-    console = make_console()
-    style = {"error": "bold red", "warning": "yellow", "info": "cyan"}
-    for file in report.files:
-        for d in file.diagnostics:
-            where = d.path + (f":{d.line}" if d.line else "") + (f":{d.column}" if d.column else "")
-            console.print(f"[bold]{escape(where)}[/]: [{style[d.severity]}]{d.severity}[/] "
-                          f"[dim]{d.rule}[/] {escape(d.message)}", highlight=False)
+        for file, d in listed:
+            lines.append(diagnostic_line(d.path, d.line, d.column, d.severity, d.rule, d.message,
+                                         colour))
             text = file.texts.get(d.path)
             if text is not None and d.line:
-                lines = text.splitlines()
-                if 0 < d.line <= len(lines):
-                    source_line = lines[d.line - 1].expandtabs(4)
-                    console.print(Text(f"  {d.line:>5} | {source_line}", style="dim"))
+                source = text.splitlines()
+                if 0 < d.line <= len(source):
+                    raw = source[d.line - 1]
+                    lines.append(style(f"  {d.line:>5} | {clean(raw.expandtabs(4))}", dim=True))
                     if d.column:
-                        console.print(Text(" " * (10 + d.column - 1) + "^", style=style[d.severity]))
+                        fg, bold = SEVERITY_STYLE[d.severity]
+                        caret = len(clean(raw[:d.column - 1].expandtabs(4)))
+                        lines.append(" " * 10 + style(" " * caret + "^", fg=fg, bold=bold))
             if d.hint:
-                console.print(f"        [green]fix:[/] {escape(d.hint)}", highlight=False)
-    console.print(f"[{colour}]{summary}[/]", highlight=False)
+                lines.append(f"        {style('fix:', fg='green')} {clean(d.hint)}")
+    if summary:
+        lines.append(summary_line(report, show_info, colour))
+    text = "".join(line + "\n" for line in lines)
+    if listed:  # whatever the layout: no line a CI runner would execute
+        from urdftool.display import guard
+
+        text = guard(text)
+    return text

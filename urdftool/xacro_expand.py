@@ -210,7 +210,13 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         for node in root.iter(etree.Entity):
             raise xacro.XacroException(f"{shown}:{node.sourceline}: entity reference {node.text} "
                                        "is not expanded (DTD entities are disabled)")
-        return xml.dom.minidom.parseString(_utf8_bytes(etree.tostring(root, encoding="unicode")))
+        # the comments beside the root element too: xacro writes them (issue 14)
+        around = [etree.tostring(node, encoding="unicode", with_tail=False)
+                  for node in root.itersiblings(preceding=True)][::-1]
+        after = [etree.tostring(node, encoding="unicode", with_tail=False)
+                 for node in root.itersiblings()]
+        return xml.dom.minidom.parseString(_utf8_bytes(
+            "".join(around) + etree.tostring(root, encoding="unicode") + "".join(after)))
 
     def handle_macro_call(node, macros, symbols):
         if policy.deadline is not None and time.monotonic() > policy.deadline:

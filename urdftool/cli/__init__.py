@@ -162,24 +162,128 @@ def load_options(packages: tuple[str, ...], xacro_args: dict[str, str]):
 
 def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | None = None):
     """Load one file into a Robot for the commands that work on a model (not ``check``).
-    A file too broken to give a robot is a ToolError naming the first problem."""
+    A file too broken to give a robot is an error (exit 2) located at the first problem."""
+    from urdftool.display import diagnostic_line
     from urdftool.model import build_robot
     from urdftool.source import load
 
     source = load(path, load_options(packages, xacro_args or {}))
     robot = build_robot(source)
     if source.root is None or source.root.tag != "robot" or not robot.links:
-        first = source.problems[0][1] if source.problems else None
-        where = f"{first.loc.path}:{first.loc.line}: " if first and first.loc and first.loc.line else ""
-        reason = f"{where}{first.message}" if first else "no <robot> with links in it"
-        raise ToolError(f"{path}: cannot read a robot ({reason}); run 'urdftool check {path}'")
+        advice = f"cannot read a robot; run 'urdftool check {path}'"
+        if not source.problems:
+            raise LocatedError(diagnostic_line(path, None, None, "error", None,
+                                               f"no <robot> with links in it: {advice}"))
+        rule, first = source.problems[0]
+        loc = first.loc
+        raise LocatedError(diagnostic_line(
+            loc.path if loc else path, loc.line if loc else None, loc.column if loc else None,
+            "error", rule, f"{first.message} ({advice})"))
     return robot
 
 
-def stdout_console():
+class LocatedError(ToolError):
+    """A ToolError whose message is a located line (``path:line:col: error rule: message``):
+    printed as it is, without the ``urdftool:`` prefix, so that editors can jump to it."""
+
+
+def stdout_console(err: bool = False):
+    """The rich console of human output (stdout, or stderr with ``err``). On a terminal: its
+    width and colours. Otherwise (a pipe, a file, a CI log): nothing wrapped or cut, no colour.
+    Never interprets emoji codes; every line goes through ``display.guard``. Put file content
+    in markup with ``shown(value)``."""
     from rich.console import Console
 
-    return Console(highlight=False, soft_wrap=True)
+    from urdftool.display import GuardedStream
+
+    stream = sys.stderr if err else sys.stdout
+    console = Console(file=GuardedStream(stream), highlight=False, emoji=False)
+    if not console.is_terminal:
+        console.width = 1_000_000  # no wrapping, no cropping: each row on one line
+    return console
+
+
+def shown(value) -> str:
+    """File content (a name, a path, a message) for rich markup: escaped by ``display.clean``
+    and for the markup (a name like ``[/]`` is text)."""
+    from rich.markup import escape
+
+    from urdftool.display import clean
+
+    return escape(clean("" if value is None else value))
+
+
+def echo(text: str, err: bool = False) -> None:
+    """One or more lines of human output without rich (``display.guard``ed)."""
+    from urdftool.display import guard
+
+    click.echo(guard(text), err=err)
+
+
+def print_finding(path, line, column, severity: str, rule: str | None, message: str,
+                  hint: str | None = None, err: bool = False) -> None:
+    """A finding of any command, located as ``check`` does (``display.diagnostic_line``), with
+    its hint on the next line; coloured on a terminal (unless NO_COLOR)."""
+    from urdftool.display import clean, diagnostic_line
+
+    stream = sys.stderr if err else sys.stdout
+    colour = _colour(stream)
+    text = diagnostic_line(path, line, column, severity, rule, message, colour)
+    if hint:
+        text += "\n        " + (click.style("fix:", fg="green") if colour else "fix:") + \
+            " " + clean(hint)
+    echo(text, err=err)
+
+
+def _colour(stream) -> bool:
+    isatty = getattr(stream, "isatty", None)
+    return bool(isatty and isatty()) and not os.environ.get("NO_COLOR")
+
+
+class Progress:
+    """Progress of a run over many items (``update(done, total)`` as items finish) on stderr,
+    with rich, shown only when stderr is a terminal and the run has lasted a second: nothing
+    is imported or drawn otherwise. No refresh thread (the commands fork worker processes)."""
+
+    def __init__(self, what: str, enabled: bool = True):
+        import time
+
+        self._clock = time.monotonic
+        self._start = self._clock()
+        self.what = what
+        self.enabled = enabled and sys.stderr.isatty()
+        self._bar = self._task = None
+
+    def update(self, done: int, total: int) -> None:
+        if not self.enabled or total < 2:
+            return
+        if self._bar is None:
+            if self._clock() - self._start < 1.0:
+                return
+            from rich.console import Console
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                TextColumn,
+                TimeElapsedColumn,
+            )
+            from rich.progress import Progress as Bar
+
+            self._bar = Bar(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+                            TimeElapsedColumn(), console=Console(stderr=True), transient=True,
+                            auto_refresh=False, redirect_stdout=False, redirect_stderr=False)
+            self._bar.start()
+            self._task = self._bar.add_task(self.what, total=total)
+        self._bar.update(self._task, completed=done, total=total)
+        self._bar.refresh()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        if self._bar is not None:
+            self._bar.stop()
+            self._bar = None
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -198,20 +302,27 @@ def main(argv: list[str] | None = None) -> None:
     except ToolError as exc:
         if debug:
             raise
-        click.echo(f"urdftool: {exc}", err=True)
+        from urdftool.display import clean
+
+        prefix = "" if isinstance(exc, LocatedError) else "urdftool: "
+        echo(prefix + clean(exc), err=True)
         sys.exit(2)
     except BrokenPipeError:
         sys.exit(1)
     except OSError as exc:  # the file system refused (a name too long, a permission...)
         if debug:
             raise
+        from urdftool.display import clean
+
         where = f"{exc.filename}: " if exc.filename else ""
-        click.echo(f"urdftool: {where}{exc.strerror or exc}", err=True)
+        echo(f"urdftool: {clean(where)}{clean(exc.strerror or exc)}", err=True)
         sys.exit(2)
     except Exception as exc:
         if debug:
             raise
-        click.echo(f"urdftool: internal error: {type(exc).__name__}: {exc} "
-                   "(run with --debug for details)", err=True)
+        from urdftool.display import clean
+
+        echo(f"urdftool: internal error: {type(exc).__name__}: {clean(exc)} "
+             "(run with --debug for details)", err=True)
         sys.exit(2)
     sys.exit(code if isinstance(code, int) else 0)

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import click
 
 from urdftool.cli import (
+    _colour,
     format_option,
     load_options,
     package_option,
@@ -26,7 +28,21 @@ from urdftool.cli import (
 @click.option("--ignore", multiple=True, metavar="RULE|FAMILY",
               help="Skip these rules or families (repeatable, or comma-separated).")
 @click.option("--fix", is_flag=True, help="Write the repaired XML (needs -o or --in-place).")
-@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Where --fix writes.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False), metavar="FILE",
+              help="Write the report to FILE (any --format), not stdout. With --fix: where "
+                   "the repaired file goes (the report then goes to stdout or --output-file).")
+@click.option("--output-file", type=click.Path(dir_okay=False), metavar="FILE",
+              help="Write the report to FILE, also with --fix.")
+@click.option("--show-info", is_flag=True,
+              help="Text: list infos too (they are always counted, and always in JSON and "
+                   "SARIF).")
+@click.option("--statistics", is_flag=True,
+              help="Print the number of findings per rule and severity instead of the "
+                   "findings (text or --format json).")
+@click.option("--exit-zero", is_flag=True,
+              help="Exit 0 even when findings fail the run (2 still means could not check).")
+@click.option("-q", "--quiet", is_flag=True,
+              help="Print the findings only: no summary line, no progress.")
 @click.option("--in-place", is_flag=True,
               help="With --fix: replace the file itself (atomically) instead of writing -o.")
 @click.option("--model", "sdf_model", metavar="NAME",
@@ -48,14 +64,15 @@ from urdftool.cli import (
 @click.option("--write-baseline", "write_baseline", type=click.Path(dir_okay=False),
               metavar="FILE", help="Record today's findings in FILE and exit 0.")
 @click.pass_context
-def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, in_place, sdf_model,
-            model_paths, no_cache, jobs, changed, baseline, write_baseline):
+def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, output_file,
+            show_info, statistics, exit_zero, quiet, in_place, sdf_model, model_paths, no_cache,
+            jobs, changed, baseline, write_baseline):
     """Lint robot descriptions (*.urdf, *.xacro, *.urdf.xacro, *.sdf); all findings in one pass.
 
     Exit code 0: no errors (with --strict: no warnings either); 1: findings; 2: could not check.
     """
     from urdftool import cache
-    from urdftool.check import CheckOptions, check_paths
+    from urdftool.check import CheckOptions
     from urdftool.config import load_config
     from urdftool.errors import ToolError
 
@@ -80,6 +97,11 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, in_
     options.jobs = jobs
     if in_place and not fix:
         raise ToolError("--in-place goes with --fix")
+    report_to = output_file or (None if fix else output)  # -o is the repaired file with --fix
+    if output_file and output and not fix:
+        raise ToolError("-o and --output-file both name the report: give one")
+    if statistics and fmt not in ("text", "json"):
+        raise ToolError(f"--statistics prints text or json, not {fmt}")
     if fix:
         from urdftool.fix import fixed_text
         from urdftool.output import write_output
@@ -89,7 +111,7 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, in_
                             "(or --in-place)")
         write_output(fixed_text(paths[0]), output or paths[0], inputs=[paths[0]],
                      in_place=in_place)
-    report = check_paths(paths, options)
+    report = _run(paths, options, fmt, report_to, quiet)
     if write_baseline:
         from urdftool.baseline import write_baseline as write
 
@@ -102,26 +124,63 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, in_
         from urdftool.baseline import apply_baseline
 
         apply_baseline(report, baseline)
-    for note in report.notes:
-        click.echo(note, err=True)
-    if fmt == "json":
+    if not quiet:
+        from urdftool.cli import echo
+        from urdftool.display import clean
+
+        for note in report.notes:
+            echo(clean(note), err=True)
+    from urdftool.report import format_statistics, render_text, summary_line
+    from urdftool.rules import load_all
+
+    colour = fmt == "text" and report_to in (None, "-") and _colour(sys.stdout)
+    if statistics:
+        text = format_statistics(report, fmt == "json", load_all())
+        if fmt == "text" and not quiet:
+            text += ("\n" if text else "") + summary_line(report, True, colour)
+        text += "\n" if text else ""
+    elif fmt == "json":
         from urdftool.report import format_json
 
-        click.echo(format_json(report))
+        text = format_json(report) + "\n"
     elif fmt == "sarif":
         from urdftool.report import format_sarif
-        from urdftool.rules import load_all
 
-        click.echo(format_sarif(report, {r.id: r.summary for r in load_all().values()}))
+        text = format_sarif(report, load_all()) + "\n"
     elif fmt == "github":
         from urdftool.report import format_github
 
         text = format_github(report)
-        if text:
-            click.echo(text)
+        text += "\n" if text else ""
     else:
-        from urdftool.cli import stdout_console
-        from urdftool.report import render_text
-
-        render_text(report, stdout_console)
+        text = render_text(report, show_info=show_info, colour=colour, summary=not quiet)
+    _write(text, report_to, paths)
+    if exit_zero:
+        ctx.exit(0)
     ctx.exit(report.exit_code(strict if strict is not None else config.strict))
+
+
+def _run(paths, options, fmt: str, report_to: str | None, quiet: bool):
+    """check_paths with a progress display on a terminal; a file that cannot be read is still
+    a SARIF document (its error a tool execution notification) before the exit code 2."""
+    from urdftool.check import check_paths
+    from urdftool.cli import Progress
+    from urdftool.errors import ToolError
+
+    try:
+        with Progress("checking", enabled=not quiet) as progress:
+            return check_paths(paths, options, progress=progress.update)
+    except ToolError as exc:
+        if fmt == "sarif":
+            from urdftool.display import clean
+            from urdftool.report import format_sarif
+
+            _write(format_sarif(None, tool_error=clean(exc)) + "\n", report_to, paths)
+        raise
+
+
+def _write(text: str, report_to: str | None, paths: list[str]) -> None:
+    """The report on stdout, or written (atomically, never over an input) to ``report_to``."""
+    from urdftool.output import write_output
+
+    write_output(text, report_to, inputs=paths, offer_in_place=False)
