@@ -15,14 +15,20 @@ def xacro_document(root, input_name: str) -> str:
     """The expanded tree as the ``xacro`` command prints it: xacro's banner naming the input as
     given, the comments before the root element, then minidom's ``toprettyxml`` with xacro's
     element writer (``xacro.xmlutils``: attributes sorted, blank text dropped). The text parsed
-    is our own serialisation of the tree (no DOCTYPE, no entities)."""
+    is our own serialisation of the tree (no DOCTYPE, no entities; a tree that still holds
+    entity references is written as it is)."""
     import re
     import xml.dom.minidom
 
     import xacro.xmlutils  # noqa: F401 - installs xacro's Element.writexml
     from lxml import etree
 
-    doc = xml.dom.minidom.parseString(etree.tostring(root.getroottree(), encoding="utf-8"))
+    if next(root.iter(etree.Entity), None) is not None:  # left unexpanded (no DTD is read)
+        return etree.tostring(root, encoding="unicode") + "\n"
+    # the root and the comments beside it, never a DOCTYPE: minidom would expand its entities
+    parts = [*reversed(list(root.itersiblings(preceding=True))), root, *root.itersiblings()]
+    doc = xml.dom.minidom.parseString("".join(
+        etree.tostring(node, encoding="unicode", with_tail=False) for node in parts).encode())
     comments = [n for n in doc.childNodes[:4] if n.nodeType == n.COMMENT_NODE]
     if len(comments) == 4 and _BANNER in comments[1].data:  # the expansion's own banner
         for node in comments:
