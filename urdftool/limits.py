@@ -195,7 +195,9 @@ def _findings_by_joint(robot: Robot, families=("joint", "mimic")) -> dict[str, l
                 if element == path or element.startswith(path + "/"):
                     result.setdefault(joint.loc.element, []).append(
                         {"rule": rule.id, "severity": finding.severity or rule.severity,
-                         "message": finding.message, "hint": finding.hint})
+                         "message": finding.message, "hint": finding.hint,
+                         "path": finding.loc.path, "line": finding.loc.line,
+                         "column": finding.loc.column})
                     break
     return result
 

@@ -324,9 +324,9 @@ def render_text(report: Report, show_info: bool = False, colour: bool = False,
     lines = []
     listed = [(file, d) for file in report.files for d in file.diagnostics if d.severity in shown]
     if listed:
-        from urdftool.display import SEVERITY_STYLE, clean, diagnostic_line
-
         import click
+
+        from urdftool.display import SEVERITY_STYLE, clean, diagnostic_line
 
         def style(text, **how):
             return click.style(text, **how) if colour else text

@@ -203,6 +203,17 @@ def stdout_console(err: bool = False):
     return console
 
 
+def print_table(console, table, title: str | None = None) -> None:
+    """A rich table after its title line (a rich title would be wrapped to the table's width).
+    Nothing is cut: on a terminal long cells fold onto more lines; elsewhere the console is
+    unbounded (``stdout_console``) and every row is one line."""
+    if title:
+        console.print(title)
+    for column in table.columns:
+        column.overflow = "fold"
+    console.print(table)
+
+
 def shown(value) -> str:
     """File content (a name, a path, a message) for rich markup: escaped by ``display.clean``
     and for the markup (a name like ``[/]`` is text)."""
@@ -213,11 +224,27 @@ def shown(value) -> str:
     return escape(clean("" if value is None else value))
 
 
-def echo(text: str, err: bool = False) -> None:
+def shown_block(text: str) -> str:
+    """Several lines (an XML block we wrote, with names from the file in it): each line
+    escaped like ``shown``."""
+    return "\n".join(shown(line) for line in str(text).split("\n"))
+
+
+def echo(text: str, err: bool = False, nl: bool = True) -> None:
     """One or more lines of human output without rich (``display.guard``ed)."""
     from urdftool.display import guard
 
-    click.echo(guard(text), err=err)
+    click.echo(guard(text), err=err, nl=nl)
+
+
+def print_json(data, **options) -> None:
+    """A JSON document of a command: exact values, no CI command in it
+    (``display.json_safe``)."""
+    import json
+
+    from urdftool.display import json_safe
+
+    click.echo(json_safe(json.dumps(data, indent=2, **options)))
 
 
 def print_finding(path, line, column, severity: str, rule: str | None, message: str,

@@ -4,7 +4,14 @@ from __future__ import annotations
 
 import click
 
-from urdftool.cli import load_options, package_option, split_args, untrusted_options
+from urdftool.cli import (
+    load_options,
+    package_option,
+    print_finding,
+    print_json,
+    split_args,
+    untrusted_options,
+)
 
 
 @click.command("convert")
@@ -33,7 +40,6 @@ def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, 
     (the sdf rules) and written in its nearest safe form. Exit code 0: converted; 1: converted
     with errors in the SDF, or refused (--no-cut and a loop); 2: could not convert.
     """
-    import json
     from pathlib import Path
 
     from urdftool.errors import ToolError
@@ -91,23 +97,20 @@ def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, 
         source.root.insert(0, etree.Comment(header))
         urdf = to_text(source.root)
     if fmt == "json":
-        click.echo(json.dumps({
+        print_json({
             "path": str(path), "urdf": urdf, "refused": refused,
             "diagnostics": [{"rule": r, "severity": s, "message": f.message if f else refused,
                              "path": f.loc.path if f and f.loc else str(path),
                              "line": f.loc.line if f and f.loc else None,
                              "column": f.loc.column if f and f.loc else None,
-                             "hint": f.hint if f else None} for r, s, f in problems]},
-            indent=2))
+                             "hint": f.hint if f else None} for r, s, f in problems]})
     else:
         for rule_id, severity, finding in problems:
-            if finding is None:
-                click.echo(f"{path}: error: {refused} [{rule_id}]", err=True)
-                continue
-            loc = finding.loc
-            where = f"{loc.path}:{loc.line}: " if loc and loc.line else f"{path}: "
-            hint = f" (fix: {finding.hint})" if finding.hint else ""
-            click.echo(f"{where}{severity}: {finding.message}{hint} [{rule_id}]", err=True)
+            loc = finding.loc if finding is not None else None
+            print_finding(loc.path if loc else path, loc.line if loc else None,
+                          loc.column if loc else None, severity, rule_id,
+                          finding.message if finding is not None else refused,
+                          finding.hint if finding is not None else None, err=True)
         if urdf is not None:
-            write_output(urdf, output, inputs=[str(path), *source.texts])
+            write_output(urdf, output, inputs=[str(path), *source.texts], offer_in_place=False)
     ctx.exit(1 if errors or urdf is None else 0)

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 
 import click
@@ -15,24 +14,18 @@ from urdftool.cli import (
     format_option,
     load_robot,
     package_option,
+    print_finding,
+    print_json,
+    print_table,
+    shown,
     split_args,
     stdout_console,
     untrusted_options,
 )
+from urdftool.display import clean
 
 SELF_CHECK_SAMPLES = 100
 RESIDUAL_WARNING = 1e-9
-
-
-def print_table(console, table) -> None:
-    """Print a rich table at its natural width: never truncate joint names to fit 80 columns."""
-    natural = console.measure(table, options=console.options.update(max_width=10_000)).maximum
-    width = console.width
-    console.width = max(width, natural)  # print(width=...) cannot exceed the console's
-    try:
-        console.print(table)
-    finally:
-        console.width = width
 
 
 def number(value: float) -> str:
@@ -75,8 +68,7 @@ def render_text(chain, result, residual: float) -> None:
     console = stdout_console()
     formula = ("A_i = Rz(θ_i) Tz(d_i) Tx(a_i) Rx(α_i)" if result.convention == "standard"
                else "A_i = Rx(α_(i-1)) Tx(a_(i-1)) Rz(θ_i) Tz(d_i)")
-    table = Table(title=f"{chain.robot or 'robot'}: {chain.base} → {chain.tip}, "
-                        f"{result.convention} DH ({formula})")
+    table = Table()
     table.add_column("i", justify="right")
     table.add_column("joint")
     table.add_column("type")
@@ -86,15 +78,17 @@ def render_text(chain, result, residual: float) -> None:
     for i, row in enumerate(result.rows, start=1):
         variable = f"{'θ' if row.revolute else 'd'} + q{i}"
         if not row.variable.startswith("q_"):
-            variable += f", q{i} = {row.variable}"
-        table.add_row(str(i), row.joint, row.type, *_cells(row, result.convention), variable)
-    print_table(console, table)
+            variable += f", q{i} = {shown(row.variable)}"
+        table.add_row(str(i), shown(row.joint), shown(row.type), *_cells(row, result.convention),
+                      variable)
+    print_table(console, table, f"{shown(chain.robot or 'robot')}: {shown(chain.base)} → "
+                                f"{shown(chain.tip)}, {result.convention} DH ({formula})")
     console.print("base (the base link's frame to DH frame 0):")
     console.print(_matrix_text(result.base))
     console.print(f"tool (DH frame {len(result.rows)} to the tip link's frame):")
     console.print(_matrix_text(result.tool))
     for note in result.notes:
-        console.print(f"[dim]note: {note}[/]")
+        console.print(f"[dim]note: {shown(note)}[/]")
     verdict = "ok" if residual <= RESIDUAL_WARNING else "[bold red]MISMATCH[/]"
     console.print(f"self-check: base · Π A_i(q_i) · tool vs the URDF's forward kinematics, worst "
                   f"|Δ| over {SELF_CHECK_SAMPLES} random configurations within the limits: "
@@ -131,12 +125,13 @@ def render_latex(chain, result, residual: float) -> str:
         return f"{variable} - {constant[1:]}" if constant.startswith("-") else \
             f"{variable} + {constant}"
 
-    lines = [(f"% urdftool dh: {chain.robot or 'robot'}, {chain.base} -> {chain.tip}, "
-              f"{result.convention} convention")]
+    # names from the file only in comments, escaped: a newline would end the comment
+    lines = [(f"% urdftool dh: {clean(chain.robot or 'robot')}, {clean(chain.base)} -> "
+              f"{clean(chain.tip)}, {result.convention} convention")]
     for i, row in enumerate(result.rows, start=1):
-        lines.append(f"% q_{i} = {row.variable} ({'rad' if row.revolute else 'm'})")
+        lines.append(f"% q_{i} = {clean(row.variable)} ({'rad' if row.revolute else 'm'})")
     for note in result.notes:
-        lines.append(f"% note: {note}")
+        lines.append(f"% note: {clean(note)}")
     lines.append(f"% self-check: worst |delta| over {SELF_CHECK_SAMPLES} random configurations: "
                  f"{residual:.3g}")
     if result.convention == "standard":
@@ -192,11 +187,12 @@ def command(inputs, base, tip, convention, fmt, packages):
         render_text(chain, result, residual)
         return
     if fmt == "json":
-        click.echo(json.dumps(result.as_dict(), indent=2))
+        print_json(result.as_dict())
     elif fmt == "csv":
         click.echo(render_csv(result), nl=False)
     else:
         click.echo(render_latex(chain, result, residual), nl=False)
     if residual > RESIDUAL_WARNING:
-        click.echo(f"urdftool: warning: the DH model differs from the URDF's forward kinematics "
-                   f"by up to {residual:.3g} (see the notes of --format text)", err=True)
+        print_finding(paths[0], None, None, "warning", None, "the DH model differs from the "
+                      f"URDF's forward kinematics by up to {residual:.3g} (see the notes of "
+                      "--format text)", err=True)

@@ -4,14 +4,17 @@ each flagged link (``urdftool.physics.summary`` computes it)."""
 
 from __future__ import annotations
 
-import json
-
 import click
 
 from urdftool.cli import (
     format_option,
     load_robot,
     package_option,
+    print_finding,
+    print_json,
+    print_table,
+    shown,
+    shown_block,
     split_args,
     stdout_console,
     untrusted_options,
@@ -40,7 +43,7 @@ def _verdict(row: dict) -> str:
     if not row["findings"]:
         return "[green]ok[/]"
     findings = sorted(row["findings"], key=lambda f: _ORDER.index(f["severity"]))
-    return "\n".join(f"[{_STYLE[f['severity']]}]{f['severity']}[/] {f['rule']}"
+    return "\n".join(f"[{_STYLE[f['severity']]}]{f['severity']}[/] {shown(f['rule'])}"
                      for f in findings)
 
 
@@ -81,7 +84,7 @@ def command(inputs, link, density, fmt, packages, no_cache):
         raise ToolError(f"no link '{link}' in {paths[0]} (links: {names})")
     data = inertia_data(robot, link, density)
     if fmt == "json":
-        click.echo(json.dumps(data, indent=2, allow_nan=False))
+        print_json(data, allow_nan=False)
     else:
         _print(data)
     if data["summary"]["errors"]:
@@ -89,31 +92,25 @@ def command(inputs, link, density, fmt, packages, no_cache):
 
 
 def _print(data: dict) -> None:
-    from rich.markup import escape
     from rich.table import Table
 
     console = stdout_console()
-    if not console.is_terminal:
-        console.width = 200  # a file or a pipe: keep rows on one line
-    table = Table(title=f"[bold]{escape(str(data['robot']))}[/]: {len(data['links'])} link(s); "
-                        "moments in kg·m², principal, ascending", title_justify="left")
+    table = Table()
     for name, justify in (("link", "left"), ("mass kg", "right"), ("declared", "right"),
                           ("geometry", "right"), ("from", "left"), ("ratio", "right"),
                           ("COM offset m", "right"), ("verdict", "left")):
-        table.add_column(name, justify=justify, no_wrap=name != "link", overflow="fold")
+        table.add_column(name, justify=justify, overflow="fold")
     for row in data["links"]:
         geometry = row["geometry"] or {}
-        table.add_row(escape(str(row["link"])), _num(row["mass"]), _triple(row["principal"]),
-                      _triple(geometry.get("principal")), geometry.get("from") or "-",
+        table.add_row(shown(row["link"]), _num(row["mass"]), _triple(row["principal"]),
+                      _triple(geometry.get("principal")), shown(geometry.get("from") or "-"),
                       _ratio(row["ratios"]), _num(row["com_offset"], 3), _verdict(row))
-    console.print(table)
+    print_table(console, table, f"[bold]{shown(data['robot'])}[/]: {len(data['links'])} "
+                                "link(s); moments in kg·m², principal, ascending")
     for row in data["links"]:
-        for finding in sorted(row["findings"], key=lambda f: _ORDER.index(f["severity"])):
-            where = f"{finding['path']}:{finding['line']}" if finding["line"] else \
-                str(finding["path"])
-            console.print(f"[bold]{escape(where)}[/]: [{_STYLE[finding['severity']]}]"
-                          f"{finding['severity']}[/] [dim]{finding['rule']}[/] "
-                          f"{escape(finding['message'])}")
+        for f in sorted(row["findings"], key=lambda f: _ORDER.index(f["severity"])):
+            print_finding(f["path"], f["line"], f.get("column"), f["severity"], f["rule"],
+                          f["message"])
     blocks = [row for row in data["links"] if row["corrected"] is not None]
     if blocks:
         source = (f"a uniform density of {data['density']:g} kg/m³"
@@ -122,15 +119,15 @@ def _print(data: dict) -> None:
                       "COM at its centroid, tensor about the COM in the link frame):")
         for row in blocks:
             block = row["corrected"]
-            console.print(f"[dim]<!-- link '{escape(str(row['link']))}': from its "
-                          f"{block['from']} geometry, {block['volume']:.4g} m³ -->[/]")
-            console.print(escape(block["xml"]), highlight=False)
+            console.print(f"[dim]<!-- link '{shown(row['link'])}': from its "
+                          f"{shown(block['from'])} geometry, {block['volume']:.4g} m³ -->[/]")
+            console.print(shown_block(block["xml"]), highlight=False)
     missing = [row["link"] for row in data["links"]
                if row["corrected"] is None and any(
                    f["severity"] in ("error", "warning") and f["rule"].startswith("inertia.")
                    for f in row["findings"])]
     if missing:
-        console.print("[dim]no corrected block for " + ", ".join(map(str, missing))
+        console.print("[dim]no corrected block for " + ", ".join(shown(m) for m in missing)
                       + " (no usable geometry, or no mass: try --density)[/]")
     s = data["summary"]
     colour = "red" if s["errors"] else ("yellow" if s["warnings"] else "green")

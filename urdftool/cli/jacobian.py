@@ -4,20 +4,24 @@ manipulability and condition number) or as sympy expressions."""
 
 from __future__ import annotations
 
-import json
 import math
 
 import click
 
 from urdftool.cli import (
+    echo,
     format_option,
     load_robot,
     package_option,
+    print_finding,
+    print_json,
+    print_table,
+    shown,
     split_args,
     stdout_console,
     untrusted_options,
 )
-from urdftool.cli.dh import print_table
+from urdftool.display import clean
 
 ROWS = ("vx", "vy", "vz", "wx", "wy", "wz")
 
@@ -49,50 +53,53 @@ def _warnings(chain, q, analysis, q_text) -> list[str]:
     return warnings
 
 
-def render_numeric_text(chain, q, jac, tip_pose, analysis, warnings, tolerance) -> None:
+def render_numeric_text(path, chain, q, jac, tip_pose, analysis, warnings, tolerance) -> None:
     from rich.table import Table
 
     console = stdout_console()
-    console.print(f"[bold]{chain.robot or 'robot'}[/]: geometric Jacobian of the origin of "
-                  f"'{chain.tip}' in the frame of '{chain.base}'"
+    console.print(f"[bold]{shown(chain.robot or 'robot')}[/]: geometric Jacobian of the origin "
+                  f"of '{shown(chain.tip)}' in the frame of '{shown(chain.base)}'"
                   + (" (world)" if chain.base_is_root else ""))
-    config = Table(title="configuration", title_justify="left")
+    config = Table()
     for header in ("", "joint", "type", "q", "limits"):
         config.add_column(header)
     for i, (variable, value) in enumerate(zip(chain.variables, q), start=1):
         limits = (f"[{variable.lower:g}, {variable.upper:g}]" if variable.bounded else "none")
-        config.add_row(f"q{i}", variable.name + ("" if variable.in_chain else " (mimic leader)"),
-                       variable.type, _number(value), limits)
-    print_table(console, config)
-    table = Table(title="J (v: m/s or m/m per unit q; w: rad/s)", title_justify="left")
+        config.add_row(f"q{i}", shown(variable.name) + ("" if variable.in_chain
+                                                         else " (mimic leader)"),
+                       shown(variable.type), _number(value), shown(limits))
+    print_table(console, config, "configuration")
+    table = Table()
     table.add_column("")
     for i in range(chain.n):
         table.add_column(f"q{i + 1}", justify="right")
     for name, row in zip(ROWS, jac):
         table.add_row(name, *(_number(v) for v in row))
-    print_table(console, table)
+    print_table(console, table, "J (v: m/s or m/m per unit q; w: rad/s)")
     x, y, z = tip_pose[:3, 3]
     console.print(f"tip origin: [{_number(x)}, {_number(y)}, {_number(z)}] m")
     for item in analysis:
         label = "6 x n (mixed units)" if item.rows == "full" else "position rows, 3 x n"
         condition = "inf" if math.isinf(item.condition) else f"{item.condition:.6g}"
-        console.print(f"{label}: singular values "
-                      f"[{', '.join(f'{s:.6g}' for s in item.singular_values)}], "
+        values = shown(f"[{', '.join(f'{s:.6g}' for s in item.singular_values)}]")
+        console.print(f"{label}: singular values {values}, "
                       f"manipulability {item.manipulability:.6g}, condition number {condition}")
         if item.deficient:
             console.print(f"[dim]  (rank {item.generic_rank} at most for this chain, at any "
                           "configuration: not a singularity of this one)[/]")
     for warning in warnings:
-        console.print(f"[bold yellow]warning:[/] {warning}")
+        print_finding(path, None, None, "warning", None, warning)
     if not warnings:
         console.print(f"[dim]not near a singularity (singular values above {tolerance:g} x "
                       "the largest, up to the chain's rank)[/]")
 
 
 def render_numeric_latex(chain, q, jac) -> str:
-    lines = [f"% urdftool jacobian: {chain.robot or 'robot'}, tip {chain.tip}, frame {chain.base}"]
+    # names from the file only in comments, escaped: a newline would end the comment
+    lines = [(f"% urdftool jacobian: {clean(chain.robot or 'robot')}, tip {clean(chain.tip)}, "
+              f"frame {clean(chain.base)}")]
     for i, (variable, value) in enumerate(zip(chain.variables, q), start=1):
-        lines.append(f"% q_{i} = {variable.name} = {value!r}")
+        lines.append(f"% q_{i} = {clean(variable.name)} = {value!r}")
     rows = [" & ".join(_number(v) for v in row) for row in jac]
     lines += [r"\begin{equation}", r"J = \begin{bmatrix}" + r" \\ ".join(rows) + r"\end{bmatrix}",
               r"\end{equation}"]
@@ -107,13 +114,13 @@ def run_symbolic(chain, fmt: str, simplify: str) -> None:
 
     result = symbolic.symbolic_kinematics(chain, simplify)
     if fmt == "json":
-        click.echo(json.dumps(symbolic.as_dict(result), indent=2))
+        print_json(symbolic.as_dict(result))
     elif fmt == "latex":
         click.echo(symbolic.to_latex(result), nl=False)
     elif fmt == "numpy":
         click.echo(symbolic.to_numpy(result), nl=False)
     else:
-        click.echo(symbolic.to_text(result), nl=False)
+        echo(symbolic.to_text(result), nl=False)
 
 
 @click.command("jacobian")
@@ -165,14 +172,15 @@ def command(inputs, base, tip, q_text, symbolic, simplify, tolerance, fmt, packa
     analysis = analyse(chain, jac, tolerance)
     warnings = _warnings(chain, q, analysis, q_text)
     if fmt == "text":
-        render_numeric_text(chain, q, jac, forward(chain, q), analysis, warnings, tolerance)
+        render_numeric_text(paths[0], chain, q, jac, forward(chain, q), analysis, warnings,
+                            tolerance)
         return
     if fmt == "json":
         data = {"tip": chain.tip, "q": [float(v) for v in q], "joints": chain.variable_names,
                 "frame": "world" if chain.base_is_root else chain.base, "reference_point": "tip_origin",
                 "J": [[float(v) for v in row] for row in jac]}
-        click.echo(json.dumps(data, indent=2))
+        print_json(data)
     else:
         click.echo(render_numeric_latex(chain, q, jac), nl=False)
     for warning in warnings:
-        click.echo(f"urdftool: warning: {warning}", err=True)
+        print_finding(paths[0], None, None, "warning", None, warning, err=True)

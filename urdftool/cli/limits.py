@@ -2,14 +2,16 @@
 
 from __future__ import annotations
 
-import json
-
 import click
 
 from urdftool.cli import (
     format_option,
     load_robot,
     package_option,
+    print_finding,
+    print_json,
+    print_table,
+    shown,
     split_args,
     stdout_console,
     untrusted_options,
@@ -48,12 +50,8 @@ def _sorted(findings: list[dict]) -> list[dict]:
 def _verdict(row: dict) -> str:
     if not row["findings"]:
         return "[green]ok[/]"
-    return "\n".join(f"[{_STYLE[f['severity']]}]{f['severity']}[/] {f['rule']}"
+    return "\n".join(f"[{_STYLE[f['severity']]}]{f['severity']}[/] {shown(f['rule'])}"
                      for f in _sorted(row["findings"]))
-
-
-_NO_WRAP = {"type", "lower", "upper", "range", "effort", "velocity", "multiplier", "offset",
-            "image of leader range", "verdict"}
 
 
 @click.command("limits")
@@ -77,7 +75,7 @@ def command(inputs, fmt, packages):
     data = limits_data(robot)
     failed = data["summary"]["errors"] > 0
     if fmt == "json":
-        click.echo(json.dumps(data, indent=2, allow_nan=False))
+        print_json(data, allow_nan=False)
     else:
         _print_table(robot, data)
     if failed:
@@ -85,38 +83,31 @@ def command(inputs, fmt, packages):
 
 
 def _print_table(robot, data: dict) -> None:
-    from rich.markup import escape
     from rich.table import Table
 
     console = stdout_console()
-    if not console.is_terminal:
-        console.width = 200  # a file or a pipe: keep rows on one line
-    table = Table(title=f"[bold]{escape(str(data['robot']))}[/]: {len(data['joints'])} moving "
-                        "joint(s)", title_justify="left")
+    table = Table()
     for name, justify in (("joint", "left"), ("type", "left"), ("lower", "right"),
                           ("upper", "right"), ("range", "right"), ("effort", "right"),
                           ("velocity", "right"), ("mimics", "left"), ("multiplier", "right"),
                           ("offset", "right"), ("image of leader range", "right"),
                           ("verdict", "left")):
-        table.add_column(name, justify=justify, overflow="fold", no_wrap=name in _NO_WRAP)
+        table.add_column(name, justify=justify, overflow="fold")
     for row in data["joints"]:
         mimic = row["mimic"]
         table.add_row(
-            escape(str(row["name"])), row["type"] or "?", _num(row["lower"]),
+            shown(row["name"]), shown(row["type"] or "?"), _num(row["lower"]),
             _num(row["upper"]), _range(row), _num(row["effort"]), _num(row["velocity"]),
-            escape(str(mimic["joint"])) if mimic else "-",
+            shown(mimic["joint"]) if mimic else "-",
             _num(mimic["multiplier"]) if mimic else "-",
             _num(mimic["offset"], 10) if mimic else "-",
             _image(mimic), _verdict(row))
-    console.print(table)
+    print_table(console, table, f"[bold]{shown(data['robot'])}[/]: {len(data['joints'])} "
+                                "moving joint(s)")
     for row in data["joints"]:
-        for finding in _sorted(row["findings"]):
-            where = f"{row['path']}:{row['line']}" if row["line"] else str(row["path"])
-            console.print(f"[bold]{escape(where)}[/] {escape(str(row['name']))}: "
-                          f"[{_STYLE[finding['severity']]}]{finding['severity']}[/] "
-                          f"[dim]{finding['rule']}[/] {escape(finding['message'])}")
-            if finding["hint"]:
-                console.print(f"    [green]fix:[/] {escape(finding['hint'])}")
+        for f in _sorted(row["findings"]):
+            print_finding(f.get("path") or row["path"], f.get("line") or row["line"],
+                          f.get("column"), f["severity"], f["rule"], f["message"], f["hint"])
     summary = data["summary"]
     colour = "red" if summary["errors"] else ("yellow" if summary["warnings"] else "green")
     console.print(f"[{colour}]{summary['joints']} joint(s): {summary['errors']} error(s), "

@@ -2,17 +2,21 @@
 
 from __future__ import annotations
 
-import json
 import math
 import time
 
 import click
 
 from urdftool.cli import (
+    Progress,
     format_option,
     load_options,
     package_option,
     parse_packages,
+    print_finding,
+    print_json,
+    print_table,
+    shown,
     split_args,
     untrusted_options,
 )
@@ -115,10 +119,11 @@ def command(inputs, duration, rate, fixed_base, allow_collision, srdf, no_srdf,
     options.untrusted, options.allow_env = load.untrusted, load.allow_env
     options.timeout, options.memory_mb = load.timeout, load.memory_mb
     started = time.perf_counter()
-    results = simulate(paths, options)
+    with Progress("simulating") as progress:
+        results = simulate(paths, options, progress.update)
     wall = time.perf_counter() - started
     if fmt == "json":
-        click.echo(json.dumps(_finite(report_json(results, options, wall)), indent=2))
+        print_json(_finite(report_json(results, options, wall)))
     else:
         print_text(results, wall)
     failed = any(r.verdict == "fail" for r in results)
@@ -153,54 +158,49 @@ def report_json(results, options, wall: float) -> dict:
     }
 
 
-def _short(check) -> str:
-    name = check.check.removeprefix("sim.")
-    return f"[red]{name}[/]"
-
-
 def print_text(results, wall: float) -> None:
-    from rich.markup import escape
     from rich.table import Table
 
     from urdftool.cli import stdout_console
 
     console = stdout_console()
     table = Table(show_edge=False, pad_edge=False, header_style="bold")
-    table.add_column("model", overflow="fold")
+    table.add_column("model")
     table.add_column("verdict")
-    table.add_column("failed checks", overflow="fold")
+    table.add_column("failed checks")
     table.add_column("time", justify="right")
     table.add_column("real-time", justify="right")
     for result in results:
-        name = escape(result.path)
+        name = shown(result.path)
         if result.robot and result.robot != result.path.rsplit("/", 1)[-1].split(".")[0]:
-            name += f" [dim]({escape(result.robot)})[/]"
+            name += f" [dim]({shown(result.robot)})[/]"
         verdict = {"pass": "[green]pass[/]", "fail": "[bold red]FAIL[/]"}[result.verdict]
-        failed = ", ".join(_short(c) for c in result.failures())
+        failed = ", ".join(f"[red]{shown(c.check.removeprefix('sim.'))}[/]"
+                           for c in result.failures())
         timing = result.timing
         taken = f"{timing.get('total', 0):.2f} s"
         if "load" in timing:
             taken += f" [dim](load {timing['load']:.2f})[/]"
         factor = f"{result.real_time_factor:.0f}x" if result.real_time_factor else ""
         table.add_row(name, verdict, failed, taken, factor)
-    console.print(table)
+    print_table(console, table)
     for result in results:
         if result.verdict != "fail" and not result.images:
             continue
         console.print()
-        head = f"[bold]{escape(result.path)}[/]"
+        head = f"[bold]{shown(result.path)}[/]"
         if result.anchored is not None:
-            head += " [dim]" + (f"anchored: {escape(result.anchor_reason or '')}"
+            head += " [dim]" + (f"anchored: {shown(result.anchor_reason or '')}"
                                 if result.anchored else "free, dropped onto the ground") + "[/]"
         if result.real_time_factor:
             head += f" [dim]real-time factor {result.real_time_factor:.0f}x[/]"
         console.print(head)
         for check in result.failures():
-            console.print(f"  [red]{check.check}[/]: {escape(check.message)}")
+            print_finding(result.path, None, None, "error", check.check, check.message)
         for note in result.notes:
-            console.print(f"  [dim]note: {escape(note)}[/]")
+            console.print(f"  [dim]note: {shown(note)}[/]")
         for image in result.images:
-            console.print(f"  picture: {escape(image)}")
+            console.print(f"  picture: {shown(image)}")
     passed = sum(r.verdict == "pass" for r in results)
     failed = sum(r.verdict == "fail" for r in results)
     console.print()

@@ -10,6 +10,7 @@ from urdftool.cli import (
     format_option,
     load_robot,
     package_option,
+    shown,
     split_args,
     stdout_console,
     untrusted_options,
@@ -53,16 +54,17 @@ def command(inputs, fmt, packages):
     from rich.tree import Tree
 
     moving = sum(1 for j in robot.joints if j.moving)
-    top = Tree(f"[bold]{robot.name}[/]: {len(robot.links)} links, {len(robot.joints)} joints "
-               f"({moving} moving)")
+    top = Tree(f"[bold]{shown(robot.name)}[/]: {len(robot.links)} links, {len(robot.joints)} "
+               f"joints ({moving} moving)")
 
     def add(branch, entry):
         for child in entry["children"]:
-            label = f"[cyan]{child['link']}[/] [dim]via {child['joint']} ({child['type']})"
+            label = (f"[cyan]{shown(child['link'])}[/] [dim]via {shown(child['joint'])} "
+                     f"({shown(child['type'])})")
             if "mimic" in child:
-                label += f", mimics {child['mimic']}"
+                label += f", mimics {shown(child['mimic'])}"
             add(branch.add(label + "[/]"), child)
 
     for root in data["roots"]:
-        add(top.add(f"[bold cyan]{root['link']}[/] [dim](root)[/]"), root)
+        add(top.add(f"[bold cyan]{shown(root['link'])}[/] [dim](root)[/]"), root)
     stdout_console().print(top)

@@ -60,7 +60,7 @@ def inertia_data(robot, link: str | None = None, density: float | None = None) -
         by_link.setdefault(index if index is not None else -1, []).append({
             "rule": rule_id, "severity": severity, "message": finding.message,
             "hint": finding.hint, "path": loc.path if loc else None,
-            "line": loc.line if loc else None})
+            "line": loc.line if loc else None, "column": loc.column if loc else None})
     rows = []
     for index, a in results.items():
         if link is not None and a.link.name != link:

@@ -111,9 +111,11 @@ class ModelResult:
         return data
 
 
-def simulate(paths: list[str], options: SimOptions | None = None) -> list[ModelResult]:
+def simulate(paths: list[str], options: SimOptions | None = None,
+             progress=None) -> list[ModelResult]:
     """Simulate every robot file under ``paths`` (directories searched like ``check``).
-    Raises ToolError when there is nothing to simulate or a file cannot be read."""
+    Raises ToolError when there is nothing to simulate or a file cannot be read.
+    ``progress(done, total)`` is called as models finish."""
     from urdftool.sim.runner import run_all
 
-    return run_all(paths, options or SimOptions())
+    return run_all(paths, options or SimOptions(), progress)

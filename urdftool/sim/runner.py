@@ -94,7 +94,7 @@ def _crashed(path: str, code: str) -> ModelResult:
     return result
 
 
-def run_all(paths: list[str], options: SimOptions) -> list[ModelResult]:
+def run_all(paths: list[str], options: SimOptions, progress=None) -> list[ModelResult]:
     files = model_files(paths)
     require_pybullet()
     pictures = picture_paths([f for f, _ in files], options.render)
@@ -105,7 +105,9 @@ def run_all(paths: list[str], options: SimOptions) -> list[ModelResult]:
         with ProcessPoolExecutor(jobs, mp_context=context, initializer=_init_worker) as pool:
             futures = {pool.submit(_work, path, options, from_directory, pictures[index]): index
                        for index, (path, from_directory) in enumerate(files)}
-            for future in as_completed(futures):
+            for done, future in enumerate(as_completed(futures), start=1):
+                if progress is not None:
+                    progress(done, len(files))
                 try:
                     results[futures[future]] = future.result()
                 except BrokenProcessPool:
