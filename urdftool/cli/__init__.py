@@ -172,19 +172,14 @@ def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | Non
     if source.root is None or source.root.tag != "robot" or not robot.links:
         advice = f"cannot read a robot; run 'urdftool check {path}'"
         if not source.problems:
-            raise LocatedError(diagnostic_line(path, None, None, "error", None,
+            raise ToolError(diagnostic_line(path, None, None, "error", None,
                                                f"no <robot> with links in it: {advice}"))
         rule, first = source.problems[0]
         loc = first.loc
-        raise LocatedError(diagnostic_line(
+        raise ToolError(diagnostic_line(
             loc.path if loc else path, loc.line if loc else None, loc.column if loc else None,
             "error", rule, f"{first.message} ({advice})"))
     return robot
-
-
-class LocatedError(ToolError):
-    """A ToolError whose message is a located line (``path:line:col: error rule: message``):
-    printed as it is, without the ``urdftool:`` prefix, so that editors can jump to it."""
 
 
 def stdout_console(err: bool = False):
@@ -331,8 +326,7 @@ def main(argv: list[str] | None = None) -> None:
             raise
         from urdftool.display import clean
 
-        prefix = "" if isinstance(exc, LocatedError) else "urdftool: "
-        echo(prefix + clean(exc), err=True)
+        echo(f"urdftool: {clean(exc)}", err=True)
         sys.exit(2)
     except BrokenPipeError:
         sys.exit(1)
