@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import json
-
 import click
 
 from urdftool.cli import (
     format_option,
     load_robot,
     package_option,
+    print_json,
     shown,
     split_args,
     stdout_console,
@@ -49,7 +48,7 @@ def command(inputs, fmt, packages):
     robot = load_robot(paths[0], packages, xacro_args)
     data = tree_data(robot)
     if fmt == "json":
-        click.echo(json.dumps(data, indent=2))
+        print_json(data)
         return
     from rich.tree import Tree
 
