@@ -68,7 +68,7 @@ def test_sensor_mounted_backwards_is_reversed_not_floating(tmp_path):
     path, urdf, result = convert(tmp_path, text)
     assert result.code == 0, result.err
     assert 'type="floating"' not in urdf and "is joined to no other link" not in result.err
-    assert "[sdf.reversed-joint]" in result.err and "kinect_joint" in result.err
+    assert " info sdf.reversed-joint: " in result.err and "kinect_joint" in result.err
     assert "reorder" not in result.err
     assert_matches(compare(path, urdf))  # Drake loads the SDF as written (reversed joint)
 
@@ -111,7 +111,7 @@ def test_screw_link_parent_of_its_only_joint(tmp_path):
         "screw_joint", "screw", "nut", "screw", axis="0.2 0 1", pose="0 0.01 0 0.1 0 0",
         extra=pitch), version="1.10"))
     assert result.code == 0, result.err
-    assert 'type="floating"' not in urdf and "[sdf.reversed-joint]" in result.err
+    assert 'type="floating"' not in urdf and " info sdf.reversed-joint: " in result.err
     # Drake cannot reverse a screw joint: it loads the joint written the other way round by
     # hand (the same joint frame, still relative to 'nut'; the opposite axis: the inverse screw
     # motion at the same q)
