@@ -148,9 +148,15 @@ def test_unresolved_missing_and_unreadable(write, tmp_path):
     (tmp_path / "model.mesh").write_bytes(b"\x00ogre")
     ds = diagnostics(write(text), ("mesh",))
     got = sorted((d.rule, d.severity) for d in ds)
-    assert got == [("mesh.not-found", "error"), ("mesh.unreadable", "error"),
-                   ("mesh.unresolved", "warning"), ("mesh.unresolved", "warning")]
+    assert got == [("mesh.not-checked", "info"), ("mesh.not-found", "error"),
+                   ("mesh.unreadable", "error"), ("mesh.unresolved", "warning"),
+                   ("mesh.unresolved", "warning")]
     assert any("package 'no_such_pkg_q' is not found" in d.message for d in ds)
+    # nothing skipped in silence (issue 14): what was not checked, and why
+    assert all("inertia against its geometry is checked" in d.message for d in ds
+               if d.rule == "mesh.unresolved")
+    skipped = next(d for d in ds if d.rule == "mesh.not-checked")
+    assert "(.mesh)" in skipped.message and "on 'a'" in skipped.message
 
 
 def test_package_resolution_by_directory_name_and_empty_package(tmp_path, box_stl):
@@ -185,10 +191,14 @@ def test_collada_unit_is_applied(tmp_path, write):
     np.testing.assert_allclose(info.extents, (0.2, 0.1, 0.05), rtol=1e-9)
 
 
-def test_without_trimesh_meshes_are_skipped_quietly(write, box_stl, monkeypatch):
+def test_without_trimesh_the_skipped_checks_are_named(write, box_stl, monkeypatch):
     monkeypatch.setattr(meshes, "trimesh_available", lambda: False)
     path = write(f'<robot name="r">{mesh_link("a", "meshes/box.stl")}</robot>')
-    assert diagnostics(path) == []
+    (skipped,) = diagnostics(path)
+    assert (skipped.rule, skipped.severity) == ("mesh.not-checked", "warning")
+    assert "trimesh is not installed: 1 mesh file(s) of 1 link(s)" in skipped.message
+    assert "inertia.exceeds-geometry" in skipped.message and "on 'a'" in skipped.message
+    assert skipped.hint == "pip install 'urdftool[mesh]'"
 
 
 def test_pybullet_agrees_on_primitive_inertia(write):

@@ -34,6 +34,8 @@ MISMATCH_FACTOR = 10.0
 DENSITY_LOW, DENSITY_HIGH = 10.0, 25000.0  # kg/m^3: lighter than foam, denser than osmium
 COM_TOLERANCE = 0.25  # fraction of the body's width (along the way out) the COM may lie outside
 AXIS_NAMES = ("x", "y", "z")
+NO_TRIMESH = "trimesh is not installed"  # ShapeInfo.problem of a mesh that was not read
+UNREAD_FORMAT = "a mesh format urdftool does not read"
 NEGLIGIBLE_EFFECT = 0.01  # relative change of a merged body's principal moments
 
 
@@ -196,10 +198,10 @@ def _mesh_shape(files: _MeshFiles, info: ShapeInfo, origin, need_volume: bool,
         info.problem = f"no file at {path}"
         return
     if path.suffix.lower() not in meshes.LOADABLE:
-        info.problem = f"mesh format {path.suffix} not read"
+        info.problem = UNREAD_FORMAT
         return
     if not meshes.trimesh_available():
-        info.problem = "trimesh is not installed"
+        info.problem = NO_TRIMESH
         return
     need_volume = need_volume or resolved in volume_files
     mesh = meshes.load_mesh(resolved, need_volume=need_volume)

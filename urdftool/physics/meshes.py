@@ -73,7 +73,10 @@ def trimesh_available() -> bool:
     if _TRIMESH is None:
         from importlib.util import find_spec
 
-        _TRIMESH = find_spec("trimesh") is not None
+        try:
+            _TRIMESH = find_spec("trimesh") is not None
+        except (ImportError, ValueError):  # a finder that refuses it, a broken half-install
+            _TRIMESH = False
     return _TRIMESH
 
 
@@ -207,17 +210,61 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
     import numpy as np
 
     LOADS += 1
-    try:
-        with warnings.catch_warnings():
+    with _LibraryLog() as log:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                triangles = _read(path)
+        except Exception as exc:  # noqa: BLE001 - any parser failure is a finding, not a crash
+            return MeshInfo(str(path), error=_one_line(f"{type(exc).__name__}: {exc}"))
+        if triangles is None:
+            return MeshInfo(str(path), error="no triangles in it" + log.cause())
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
             warnings.simplefilter("ignore")
-            triangles = _read(path)
-    except Exception as exc:  # noqa: BLE001 - any parser failure is a finding, not a crash
-        return MeshInfo(str(path), error=f"{type(exc).__name__}: {exc}".strip())
-    if triangles is None:
-        return MeshInfo(str(path), error="no triangles in it")
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore")
-        return _summarise(path, *triangles, need_volume)
+            return _summarise(path, *triangles, need_volume)
+
+
+def _one_line(text: str) -> str:
+    lines = [line.strip() for line in str(text).strip().splitlines() if line.strip()]
+    return lines[0] if lines else "unknown error"
+
+
+class _LibraryLog:
+    """While a mesh is read, what trimesh and pycollada log (warnings with tracebacks, on a
+    logger Python would otherwise print to stderr) is kept here instead: the first line of the
+    first message becomes the cause of a load error; messages about a mesh that loads
+    (textures, materials, normals the checks never read) are dropped."""
+
+    LOGGERS = ("trimesh", "collada", "PIL")
+
+    def __enter__(self):
+        import logging
+
+        class Keep(logging.Handler):
+            def emit(handler, record):  # noqa: N805 - the handler, not this object
+                try:
+                    self.messages.append(_one_line(record.getMessage()))
+                except Exception:  # noqa: BLE001 - a message that cannot be formatted
+                    self.messages.append(record.msg if isinstance(record.msg, str) else "")
+
+        self.messages: list[str] = []
+        self.handler = Keep(logging.WARNING)
+        self.saved = []
+        for name in self.LOGGERS:
+            logger = logging.getLogger(name)
+            self.saved.append((logger, logger.propagate))
+            logger.addHandler(self.handler)
+            logger.propagate = False
+        return self
+
+    def __exit__(self, *exc):
+        for logger, propagate in self.saved:
+            logger.removeHandler(self.handler)
+            logger.propagate = propagate
+        return False
+
+    def cause(self) -> str:
+        return f" ({self.messages[0]})" if self.messages and self.messages[0] else ""
 
 
 def _read(path: Path):

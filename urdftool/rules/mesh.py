@@ -3,7 +3,7 @@ in the wrong unit, and open meshes whose volume the inertia checks had to approx
 
 Meshes are loaded with trimesh, lazily (a robot without meshes never imports it), once per
 file per run (``urdftool.physics.meshes``). Without trimesh installed, only resolution and
-existence are checked.
+existence are checked, and `mesh.not-checked` says what was skipped.
 """
 
 from __future__ import annotations
@@ -32,6 +32,9 @@ def _what(a, info) -> str:
     return f"link '{a.link.name}' {info.shape.role}"
 
 
+_SKIPPED = "neither the mesh nor the link's inertia against its geometry is checked"
+
+
 @rule("mesh.unresolved", "warning", "a mesh URI names a package urdftool cannot find",
       doc="""`package://NAME/path` needs package NAME: urdftool looks for it with `-P NAME=DIR`,
 the nearest `package.xml` above the file and its siblings, `ROS_PACKAGE_PATH`,
@@ -56,11 +59,13 @@ def unresolved(robot):
         elif info.path is None:
             if uri.startswith("package://"):
                 name = uri[len("package://"):].partition("/")[0]
-                yield Finding(f"{_what(a, info)} mesh {uri!r}: package '{name}' is not found",
-                              _loc(info), hint=f"pass -P {name}=DIR, or set ROS_PACKAGE_PATH")
+                yield Finding(f"{_what(a, info)} mesh {uri!r}: package '{name}' is not found, "
+                              f"so {_SKIPPED}", _loc(info),
+                              hint=f"pass -P {name}=DIR, or set ROS_PACKAGE_PATH")
             else:
-                yield Finding(f"{_what(a, info)} mesh {uri!r} is not a local file",
-                              _loc(info), hint="use package://PACKAGE/... or a relative path")
+                yield Finding(f"{_what(a, info)} mesh {uri!r} is not a local file, so "
+                              f"{_SKIPPED}", _loc(info),
+                              hint="use package://PACKAGE/... or a relative path")
 
 
 @rule("mesh.not-found", "error", "a mesh file does not exist",
@@ -93,6 +98,53 @@ def unreadable(robot):
         if mesh is not None and mesh.error is not None:
             yield Finding(f"{_what(a, info)} mesh {info.path.name} cannot be read: "
                           f"{mesh.error}", _loc(info))
+
+
+_MESH_RULES = "mesh.unreadable, mesh.scale and mesh.not-watertight"
+_GEOMETRY_RULES = ("inertia.exceeds-geometry, permuted-axes, unit-scale, com-outside-geometry, "
+                   "geometry-mismatch and implausible-density")
+
+
+def _names(names: list[str], most: int = 6) -> str:
+    shown = ", ".join(f"'{n}'" for n in names[:most])
+    return shown + (f" and {len(names) - most} more" if len(names) > most else "")
+
+
+@rule("mesh.not-checked", "warning",
+      "meshes were not read (trimesh missing, a format urdftool does not read): checks skipped",
+      doc="""Nothing is skipped in silence. The mesh checks (`mesh.unreadable`, `mesh.scale`,
+`mesh.not-watertight`) and the inertia checks against a link's geometry need the meshes read,
+with trimesh (`pip install 'urdftool[mesh]'`). Without it, `check` still runs every other rule
+and says here, once per robot, which meshes and links were not checked: a warning, so that
+`--strict` fails a CI job whose environment lacks it (the other commands that need trimesh stop
+with exit code 2). A mesh in a format urdftool does not read (Ogre `.mesh`, VRML...) is advice:
+its link's inertia is not compared with its geometry. Meshes that do not resolve are
+`mesh.unresolved` and `mesh.not-found`.""",
+      bad='<robot name="r"><link name="a"><visual><geometry>'
+          '<mesh filename="package://urdftool/physics/examples/part.mesh"/>'
+          '</geometry></visual></link></robot>',
+      good='<robot name="r"><link name="a"><visual><geometry>'
+           '<box size="0.1 0.1 0.1"/></geometry></visual></link></robot>')
+def not_checked(robot):
+    skipped: dict[str, list] = {}
+    for a, info in _mesh_shapes(robot):
+        if info.problem in (analysis.NO_TRIMESH, analysis.UNREAD_FORMAT):
+            skipped.setdefault(info.problem, []).append((a, info))
+    for problem, shapes in skipped.items():
+        links = list(dict.fromkeys(str(a.link.name) for a, _ in shapes))
+        files = list(dict.fromkeys(info.path.name for _, info in shapes))
+        first = _loc(shapes[0][1])
+        if problem == analysis.NO_TRIMESH:
+            yield Finding(f"trimesh is not installed: {len(files)} mesh file(s) of "
+                          f"{len(links)} link(s) were not read, so {_MESH_RULES} did not check "
+                          f"them and {_GEOMETRY_RULES} did not run on {_names(links)}", first,
+                          hint="pip install 'urdftool[mesh]'")
+        else:
+            suffixes = sorted({info.path.suffix or info.path.name for _, info in shapes})
+            yield Finding(f"{len(files)} mesh file(s) in a format urdftool does not read "
+                          f"({', '.join(suffixes)}): {_GEOMETRY_RULES} did not run on "
+                          f"{_names(links)}", first, severity="info",
+                          hint="a collision mesh in STL, OBJ or DAE is read by every tool")
 
 
 def _reference_size(robot, skip) -> float | None:
