@@ -49,7 +49,7 @@ def test_without_trimesh_check_names_the_skipped_mesh_checks(tmp_path):
     assert diagnostic["line"] == 4
     # with trimesh the same run reads the mesh: no such finding
     result = run_urdftool("check", "--format", "json", tmp_path / "robot.urdf")
-    rules = [d["rule"] for d in json.loads(result.stdout)["files"][0]["diagnostics"]]
+    rules = [d["rule"] for d in json.loads(result.out)["files"][0]["diagnostics"]]
     assert "mesh.not-checked" not in rules
 
 
