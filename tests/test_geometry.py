@@ -167,3 +167,17 @@ def test_visual_collision_mismatch_survives_absurd_numbers(write, origin, size):
                  '<box size="1 1 1"/></geometry></collision></link></robot>')
     report = check_file(path, CheckOptions(select=["geometry"]))
     assert not [d for d in report.diagnostics if "internal error" in d.message]
+
+
+def test_robot_without_any_collision_is_one_warning(write):
+    # issue 14: check and sim agree: such a robot falls through the floor in `sim`
+    path = write(robot(INERTIAL + "\n" + shape("visual", '<sphere radius="0.1"/>')))
+    [d] = fired(path, "geometry.no-collision")
+    assert d.severity == "warning" and "2 links" in d.message and d.line == 2
+    # one collision anywhere, or nothing with mass (a static marker): not reported
+    with_one = robot(INERTIAL + "\n" + shape("collision", '<sphere radius="0.1"/>'))
+    assert fired(write(with_one, "one.urdf"), "geometry.no-collision") == []
+    marker = ('<robot name="m"><link name="m"><inertial><mass value="0"/><inertia ixx="0" '
+              'ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial><visual><geometry>'
+              '<sphere radius="0.1"/></geometry></visual></link></robot>')
+    assert fired(write(marker, "marker.urdf"), "geometry.no-collision") == []

@@ -209,6 +209,44 @@ def visual_collision_mismatch(robot) -> Iterator[Finding]:
                           hint="check the collision's <origin>: it should overlap the visual")
 
 
+def _no_collision_anywhere(robot) -> bool:
+    """Not one <collision> in the robot, while something in it has mass (or no <inertial>:
+    PyBullet gives such a link 1 kg) and would fall; a massless marker stays where it is."""
+    if not robot.links or any(link.collisions for link in robot.links):
+        return False
+    return any(link.inertial is None or link.inertial.mass is None or link.inertial.mass > 0
+               for link in robot.links)
+
+
+@rule("geometry.no-collision", "warning", "no link of the robot has a <collision>",
+      doc="""
+Without any `<collision>` the robot touches nothing in simulation: dropped into PyBullet or
+Gazebo it falls through the floor (`urdftool sim` reports it sinking), and motion planners
+(MoveIt) see no obstacle and no self-collision. Reported once for the robot when something in
+it has mass (or no `<inertial>`, which PyBullet makes 1 kg); a massless visual marker stays
+where it is put and is not reported. A description meant only for display (rviz, TF) can
+ignore the rule; anything simulated needs collisions, often the visual's geometry or simpler
+shapes around it.
+""",
+      bad='<robot name="r">\n  <link name="base"><inertial><mass value="1"/><inertia ixx="0.01" '
+          'ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>\n    <visual><geometry>'
+          '<box size="0.3 0.3 0.3"/></geometry></visual></link>\n</robot>',
+      good='<robot name="r">\n  <link name="base"><inertial><mass value="1"/><inertia ixx="0.01" '
+           'ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>\n    <visual><geometry>'
+           '<box size="0.3 0.3 0.3"/></geometry></visual>\n    <collision><geometry>'
+           '<box size="0.3 0.3 0.3"/></geometry></collision></link>\n</robot>')
+def no_collision(robot) -> Iterator[Finding]:
+    if not _no_collision_anywhere(robot):
+        return
+    drawn = sum(bool(link.visuals) for link in robot.links)
+    loc = robot.loc(robot.root) if robot.root is not None else None
+    yield Finding(f"robot '{robot.name}' has no <collision> on any of its {len(robot.links)} "
+                  f"links ({drawn} drawn): in simulation it falls through the floor and touches "
+                  "nothing, and planners see no obstacle", loc,
+                  hint="add a <collision> to each link (the visual's geometry, or a simpler "
+                       "shape around it)")
+
+
 @rule("geometry.missing-collision", "info",
       "a moving link that has a visual and mass but no collision",
       doc="""
