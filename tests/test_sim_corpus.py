@@ -18,11 +18,9 @@ pytest.importorskip("pybullet")
 
 GOOD_PYBULLET = [
     "r2d2.urdf",  # wheels, gripper, prismatic joints with limits
-    "husky/husky.urdf",  # mobile base; links without <inertial> get PyBullet's 1 kg
     "kuka_iiwa/model.urdf",  # zero-mass root: PyBullet keeps it static (anchored)
     "laikago/laikago_toes_zup.urdf",  # quadruped with meshes, standing on its toes
     "quadruped/minitaur.urdf",  # 26 links, mostly fixed joints
-    "franka_panda/panda.urdf",  # arm with a two-finger gripper, dropped on its base
 ]
 GOOD_EXAMPLE_ROBOTS = [
     "ur_description/urdf/ur5_robot.urdf",  # root 'world': anchored
@@ -64,8 +62,9 @@ def test_go2_srdf_allows_the_overlaps_at_the_hips(good):
     assert check.status == "pass" and check.values["srdf"].endswith("srdf/go2.srdf")
     assert check.values["srdf_pairs"] == 14 and not check.values["ancestor_pairs"]
     path = example_robot_data_dir() / "robots" / "go2_description" / "urdf" / "go2.urdf"
-    (plain,) = simulate([str(path)], SimOptions(duration=0.05, srdf=False))
-    (strict,) = simulate([str(path)], SimOptions(duration=0.05, srdf=False, strict_collision=True))
+    (plain,) = simulate([str(path)], SimOptions(duration=0.05, srdf=False,
+                                                strict_collision=False))
+    (strict,) = simulate([str(path)], SimOptions(duration=0.05, srdf=False))
     pairs = {frozenset((p["a"], p["b"])) for p in plain.check("self-collision")
              .values["ancestor_pairs"]}
     assert frozenset(("base", "FR_thigh")) in pairs
@@ -74,12 +73,20 @@ def test_go2_srdf_allows_the_overlaps_at_the_hips(good):
     assert "base:FR_thigh" in strict.check("self-collision").message
 
 
-def test_husky_mass_counts_pybullets_default_for_links_without_inertial(good):
-    mass = good["husky.urdf"].check("mass")
-    assert mass.status == "pass"
-    assert "base_footprint" in mass.values["default_mass_links"]
-    defaulted = len(mass.values["default_mass_links"])
-    assert mass.values["pybullet_kg"] == pytest.approx(mass.values["urdf_kg"] + defaulted)
+def test_husky_mass_fails_on_pybullets_default_for_links_without_inertial():
+    # husky's frames without <inertial> weigh nothing by the URDF spec and 1 kg each in
+    # PyBullet: the model PyBullet simulates is heavier than the URDF (issue 14)
+    from lxml import etree
+
+    path = pybullet_data_dir() / "husky" / "husky.urdf"
+    (result,) = simulate([str(path)], SimOptions(duration=0.05))
+    mass = result.check("mass")
+    without = sorted(link.get("name") for link in etree.parse(str(path)).getroot()
+                     .findall("link") if link.find("inertial") is None)
+    assert mass.status == "fail" and sorted(mass.values["default_mass_links"]) == without
+    assert "base_footprint" in without
+    assert mass.values["pybullet_kg"] == pytest.approx(mass.values["urdf_kg"] + len(without))
+    assert f"{len(without)} link(s) without <inertial>" in mass.message
 
 
 def test_baxter_cannot_hold_its_arms_out_with_its_shoulder_effort_limit(tmp_path):

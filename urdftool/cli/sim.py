@@ -63,10 +63,11 @@ def _pairs(values: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
               help="Allow the pairs in this SRDF's <disable_collisions>. Default: NAME.srdf "
                    "beside the model or in a srdf/ folder next to it, if there is one.")
 @click.option("--no-srdf", is_flag=True, help="Do not look for an SRDF.")
-@click.option("--strict-collision", is_flag=True,
-              help="Also fail on overlaps between a link and its ancestors two or more joints "
-                   "up (by default reported but not counted, as PyBullet's "
-                   "URDF_USE_SELF_COLLISION_EXCLUDE_ALL_PARENTS ignores them).")
+@click.option("--strict-collision/--no-strict-collision", default=True, show_default=True,
+              help="Fail on overlaps between a link and its ancestors two or more joints up "
+                   "(MoveIt checks those pairs unless the SRDF disables them); with "
+                   "--no-strict-collision they are reported but not counted, as PyBullet's "
+                   "URDF_USE_SELF_COLLISION_EXCLUDE_ALL_PARENTS ignores them.")
 @click.option("--repaired", is_flag=True,
               help="Simulate the XML as urdftool repairs it in memory, past the XML errors "
                    "that keep PyBullet from loading the file as written.")
@@ -75,8 +76,9 @@ def _pairs(values: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
                    "collision geometry). Several models, or a directory: one picture per model.")
 @click.option("--size", default="640x480", show_default=True, metavar="WxH",
               help="Picture size in pixels.")
-@click.option("-j", "--jobs", type=click.IntRange(min=1, max=256), default=1, show_default=True,
-              help="Models simulated in parallel processes.")
+@click.option("-j", "--jobs", type=click.IntRange(min=1, max=256), default=None,
+              help="Models simulated in parallel processes (default: one per CPU available, "
+                   "as `check`).")
 @click.option("--model", "sdf_model", metavar="NAME",
               help="SDF input: the model of a world to simulate (default: the first).")
 @click.option("--model-path", "model_paths", multiple=True, metavar="DIR",

@@ -47,10 +47,10 @@ class SimOptions:
     fixed_base: bool | None = None  # None: anchored when the root link is 'world'
     allow_collision: tuple[tuple[str, str], ...] = ()
     srdf: str | bool | None = None  # an SRDF file; None: look for one beside the model; False: none
-    strict_collision: bool = False  # also fail on overlaps between a link and its ancestors
+    strict_collision: bool = True  # also fail on overlaps between a link and its ancestors
     render: str | None = None  # PNG path (or directory) for pictures
     size: tuple[int, int] = (640, 480)
-    jobs: int = 1
+    jobs: int | None = None  # worker processes; None: one per CPU available, as `check`
     repaired: bool = False  # simulate the XML as urdftool repairs it (past the XML errors)
     packages: dict[str, str] = field(default_factory=dict)
     xacro_args: dict[str, str] = field(default_factory=dict)

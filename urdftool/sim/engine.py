@@ -218,8 +218,12 @@ class _Run:
         self.masses = {i: p.getDynamicsInfo(self.body, i)[0] for i in self.link_names}
         declared = dict(prepared.masses)
         dropped = [name for name in declared if name not in simulated]
-        defaulted = [name for name, mass in declared.items() if mass is None and name in simulated]
         base = self.link_names[-1]
+        # with the base fixed, its body (the links welded to it) never moves: its mass is moot
+        still = {name for name in declared if prepared.anchored and (
+            name == base or prepared.group.get(name, -1) == prepared.group.get(base, -2))}
+        defaulted = [name for name, mass in declared.items()
+                     if mass is None and name in simulated and name not in still]
         mismatched = []
         for name, mass in declared.items():
             if name not in simulated or (prepared.anchored and name == base):
@@ -236,19 +240,21 @@ class _Run:
                       "mismatched": [{"link": n, "urdf_kg": e, "pybullet_kg": s}
                                   for n, e, s in mismatched]}
         where = " (base fixed, not counted)" if prepared.anchored else ""
-        if dropped or mismatched:
+        if dropped or mismatched or defaulted:
             parts = []
             if dropped:
                 parts.append("PyBullet dropped link(s) " + ", ".join(f"'{n}'" for n in dropped[:8]))
-            parts.extend(f"link '{n}': URDF {e:g} kg, PyBullet {s:g} kg" for n, e, s in mismatched[:8])
+            if defaulted:  # the URDF says no mass (spec: zero), PyBullet simulates 1 kg each
+                parts.append(f"{len(defaulted)} link(s) without <inertial> get PyBullet's default "
+                             "1 kg (" + ", ".join(f"'{n}'" for n in defaulted[:5])
+                             + ("..." if len(defaulted) > 5 else "") + "): give each an "
+                             "<inertial> (a massless frame: mass 0 and zero inertia)")
+            parts.extend(f"link '{n}': URDF {e:g} kg, PyBullet {s:g} kg"
+                         for n, e, s in mismatched[:8])
             return _check("mass", "fail", f"total {bullet_total:g} kg in PyBullet vs {urdf_total:g} "
                           f"kg in the URDF{where}: " + "; ".join(parts), **values)
-        message = f"{bullet_total:g} kg in PyBullet, as declared{where}"
-        if defaulted:
-            message += (f"; {len(defaulted)} link(s) without <inertial> get PyBullet's default "
-                        f"1 kg (" + ", ".join(f"'{n}'" for n in defaulted[:5]) +
-                        ("..." if len(defaulted) > 5 else "") + ")")
-        return _check("mass", "pass", message, **values)
+        return _check("mass", "pass", f"{bullet_total:g} kg in PyBullet, as declared{where}",
+                      **values)
 
     def _allowed(self, a: str, b: str) -> bool:
         return frozenset((a, b)) in self.prepared.srdf_pairs or any(
@@ -262,7 +268,7 @@ class _Run:
             self.result.notes.append("--allow-collision names no link of this model: " +
                                      ", ".join(unknown))
         boxes = {i: p.getAABB(self.body, i) for i in self.collision_links}
-        failing, ancestral = [], []
+        failing, ancestral, looped = [], [], []
         import pybullet
 
         other = self.body
@@ -286,8 +292,11 @@ class _Run:
                 continue
             depth = -min(point[8] for point in points)
             if depth > self.limits.collision_depth:
-                (ancestral if relation == "ancestor" and not strict else failing).append(
-                    (name_a, name_b, depth))
+                if prepared.loop_cut(name_a, name_b):
+                    looped.append((name_a, name_b, depth))
+                else:
+                    (ancestral if relation == "ancestor" and not strict else failing).append(
+                        (name_a, name_b, depth))
 
         if self.twin_query:
             p.removeBody(other)
@@ -302,14 +311,16 @@ class _Run:
             return text + (f" and {len(pairs) - 6} more" if len(pairs) > 6 else "")
 
         values = {"pairs": [{"a": a, "b": b, "depth_m": d} for a, b, d in failing],
-                      "ancestor_pairs": [{"a": a, "b": b, "depth_m": d} for a, b, d in ancestral],
-                      "srdf": prepared.srdf, "srdf_pairs": len(prepared.srdf_pairs)}
+                  "ancestor_pairs": [{"a": a, "b": b, "depth_m": d} for a, b, d in ancestral],
+                  "loop_cut_pairs": [{"a": a, "b": b, "depth_m": d} for a, b, d in looped],
+                  "srdf": prepared.srdf, "srdf_pairs": len(prepared.srdf_pairs)}
         extra = ""
         if ancestral:
-            extra += (f"; not counted: {len(ancestral)} overlap(s) of a link with an ancestor two "
-                      f"or more joints up, {listing(ancestral)} (ignored by PyBullet's "
-                      "URDF_USE_SELF_COLLISION_EXCLUDE_ALL_PARENTS; --strict-collision counts "
-                      "them)")
+            extra += (f"; not counted (--no-strict-collision): {len(ancestral)} overlap(s) of a "
+                      f"link with an ancestor two or more joints up, {listing(ancestral)}")
+        if looped:
+            extra += (f"; allowed: {len(looped)} overlap(s) where a closed chain is cut (links "
+                      f"moved by one mimic group), {listing(looped)}")
         if prepared.srdf:
             extra += f"; {len(prepared.srdf_pairs)} pair(s) allowed by {prepared.srdf}"
         if failing:
@@ -574,9 +585,14 @@ class _Run:
             return _check("settle", "pass", f"still moving (kinetic energy {final:.3g} J, RMS "
                           f"speed {speed:.3g} m/s) but decaying: peak {later:.3g} J in the last "
                           f"quarter vs {earlier:.3g} J before", **values)
+        hint = ""
+        if not self.prepared.anchored:
+            hint = ("; the base is free (the root link is not 'world'): if the robot is bolted "
+                    "down (an arm), run with --fixed-base, or add a 'world' link and a fixed "
+                    "joint to it")
         return _check("settle", "fail", f"does not settle: kinetic energy {final:.3g} J at "
                       f"t={self.simulated:g} s (RMS speed {speed:.3g} m/s, bound "
-                      f"{limits.settle_speed:g}), not decaying", **values)
+                      f"{limits.settle_speed:g}), not decaying" + hint, **values)
 
     def _sink(self) -> CheckResult:
         p, limits = self.client, self.limits

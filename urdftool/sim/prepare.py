@@ -69,6 +69,7 @@ class Prepared:
     joints: dict[str, JointFacts] = field(default_factory=dict)
     group: dict[str, int] = field(default_factory=dict)  # link -> rigid group
     group_parent: dict[int, int] = field(default_factory=dict)  # group -> parent group
+    body_joint: dict[int, str] = field(default_factory=dict)  # group -> the joint moving it
     srdf: str | None = None  # the SRDF whose <disable_collisions> pairs are allowed
     srdf_pairs: set[frozenset] = field(default_factory=set)
     unresolved: list[str] = field(default_factory=list)  # mesh URIs that do not resolve
@@ -87,6 +88,28 @@ class Prepared:
         if self._tempdir is not None:
             self._tempdir.cleanup()
             self._tempdir = None
+
+    def loop_cut(self, a: str, b: str) -> bool:
+        """Whether two links sit where a closed chain was cut open: the moving joints that
+        carry their bodies are one mimic group (a four-bar gripper's knuckle and finger, pinned
+        together in the real mechanism), so they overlap by design."""
+        ja, jb = (self.body_joint.get(self.group.get(name, -1)) for name in (a, b))
+        if ja is None or jb is None or ja == jb:
+            return False
+        if self.joints.get(ja) is None or self.joints.get(jb) is None or (
+                self.joints[ja].mimic is None and self.joints[jb].mimic is None):
+            return False
+        return self._mimic_leader(ja) == self._mimic_leader(jb)
+
+    def _mimic_leader(self, joint: str) -> str:
+        """The joint at the head of ``joint``'s chain of mimics (itself when it mimics none)."""
+        seen = {joint}
+        fact = self.joints.get(joint)
+        while fact is not None and fact.mimic is not None and fact.mimic[0] not in seen:
+            joint = fact.mimic[0]
+            seen.add(joint)
+            fact = self.joints.get(joint)
+        return joint
 
     def relation(self, a: str, b: str) -> str:
         """How two links are related, counting links joined by fixed joints as one body:
@@ -402,6 +425,8 @@ def prepare(path: str, options, from_directory: bool = False) -> Prepared:
                             f"{MAX_LINKS} links (it returns a broken body for more)")
         return prepared
     prepared.group, prepared.group_parent = _groups(robot)
+    prepared.body_joint = {prepared.group[j.child]: j.name for j in robot.joints
+                           if j.type != "fixed" and j.name and j.child in prepared.group}
     _find_srdf(prepared, options)
     for link in robot.links:
         if link.name is not None and link.name not in prepared.masses:

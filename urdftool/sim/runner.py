@@ -99,7 +99,9 @@ def run_all(paths: list[str], options: SimOptions, progress=None) -> list[ModelR
     require_pybullet()
     pictures = picture_paths([f for f, _ in files], options.render)
     results: list[ModelResult | None] = [None] * len(files)
-    jobs = max(1, min(options.jobs, len(files)))
+    from urdftool.check import available_cpus
+
+    jobs = max(1, min(options.jobs or available_cpus(), len(files)))
     context = _context()
     try:
         with ProcessPoolExecutor(jobs, mp_context=context, initializer=_init_worker) as pool:
