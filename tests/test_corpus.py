@@ -213,6 +213,14 @@ KNOWN_DEFECTS.setdefault("pybullet_data/differential/diff_ring.urdf", {})["xml.d
 KNOWN_DEFECTS["pybullet_data/humanoid/humanoid.urdf"]["xml.bad-character"] = (
     "a NUL byte after </robot>: strict parsers reject it, C-based tools stop reading there")
 
+# -- geometry.no-collision (issue 14): dynamics models without any <collision>; `sim` drops them
+# through the floor (sim.sink), so `check` says so too ----------------------------------------
+for _name in ("alexander_description/urdf/alexander_v1.lowerBodyOnly.urdf",
+              "asr_twodof_description/urdf/TwoDofs.urdf", "human_description/robots/human.urdf",
+              "simple_humanoid_description/urdf/simple_humanoid_classical.urdf"):
+    KNOWN_DEFECTS.setdefault(f"example-robot-data/robots/{_name}", {})["geometry.no-collision"] = (
+        "no <collision> on any link: in a simulator it falls through the floor")
+
 # -- inertia, mesh: listed with their reasons in tests/test_inertia_corpus.py --------------------
 for _name, _rules in INERTIA_KNOWN_DEFECTS.items():
     KNOWN_DEFECTS.setdefault(_name, {}).update(_rules)

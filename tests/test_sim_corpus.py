@@ -24,7 +24,6 @@ GOOD_PYBULLET = [
 ]
 GOOD_EXAMPLE_ROBOTS = [
     "ur_description/urdf/ur5_robot.urdf",  # root 'world': anchored
-    "solo_description/robots/solo12.urdf",  # quadruped; feet and legs overlap the base
     "go2_description/urdf/go2.urdf",
 ]
 

@@ -210,12 +210,18 @@ def visual_collision_mismatch(robot) -> Iterator[Finding]:
 
 
 def _no_collision_anywhere(robot) -> bool:
-    """Not one <collision> in the robot, while something in it has mass (or no <inertial>:
-    PyBullet gives such a link 1 kg) and would fall; a massless marker stays where it is."""
+    """Not one <collision> in a robot that is a body (something drawn or with mass, not a tree
+    of bare frames) and would fall (a link with mass, or without <inertial>: PyBullet gives it
+    1 kg); a massless visual marker stays where it is."""
     if not robot.links or any(link.collisions for link in robot.links):
         return False
-    return any(link.inertial is None or link.inertial.mass is None or link.inertial.mass > 0
-               for link in robot.links)
+
+    def massive(link):
+        return link.inertial is not None and link.inertial.mass is not None \
+            and link.inertial.mass > 0
+
+    physical = any(link.visuals or massive(link) for link in robot.links)
+    return physical and any(massive(link) or link.inertial is None for link in robot.links)
 
 
 @rule("geometry.no-collision", "warning", "no link of the robot has a <collision>",
