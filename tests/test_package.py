@@ -111,8 +111,8 @@ def test_packages_key_resolves_find(tmp_path, monkeypatch):
 @pytest.mark.parametrize(("config", "message"), [
     ('entrie = []', "entrie: unknown key (did you mean 'entries'?)"),
     ('strict = "no"', "strict must be true or false"),
-    ('ignore = ["xml.declaraton"]', "unknown rule 'xml.declaraton' (did you mean "
-                                    "'xml.declaration'?)"),
+    ('ignore = ["xml.declaraton"]', ("unknown rule 'xml.declaraton' (did you mean "
+                                     "'xml.declaration'?)")),
     ('severity = { "joint.zero-axes" = "info" }', "did you mean 'joint.zero-axis'?"),
     ('severity = { "joint.zero-axis" = "warn" }', "did you mean 'warning'?"),
     ('entries = [{ file = "urdf/robot.urdf.xacro", arg = {} }]', "did you mean 'args'?"),
@@ -229,7 +229,7 @@ def test_real_package_directory_check(package, tmp_path, monkeypatch):
     root = tmp_path / package
     shutil.copytree(PACKAGES / package, root)
     monkeypatch.chdir(root)
-    code, report, _ = check(".")
+    _, report, _ = check(".")
     found = _keys(report)
     # the fragments (macro files) give no structure finding of their own
     structure = {k for k in found if k[0].startswith("structure.")}
@@ -243,6 +243,43 @@ def test_real_package_directory_check(package, tmp_path, monkeypatch):
         # reads the camera macro file, which is then checked through it
         (root / "urdftool.toml").write_text(
             'entries = [{ file = "urdf/demo.urdf.xacro", args = { model = "flir_blackfly_s" } }]\n')
-        code, report, _ = check(".")
+        _, report, _ = check(".")
         assert [f["path"] for f in report["files"]] == ["urdf/demo.urdf.xacro"]
         assert [f["robot"] for f in report["files"]] == ["flir_blackfly_s"]
+
+
+def test_changed_mode_checks_only_what_reads_the_files_once_it_knows(demo, monkeypatch):
+    from urdftool import check as check_module
+
+    (demo / "urdf" / "other.urdf.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot name="other" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="materials.xacro"/>\n'
+        '  <link name="base"/>\n</robot>\n')
+    checked: list[str] = []
+    real = check_module.check_file
+
+    def counting(path, options=None, target=None):
+        checked.append(Path(path).name)
+        return real(path, options, target)
+
+    monkeypatch.setattr(check_module, "check_file", counting)
+    check("--changed", "urdf/wheel.xacro")  # nothing known yet: every file is expanded
+    assert sorted(checked) == ["camera.xacro", "lidar.xacro", "materials.xacro",
+                               "other.urdf.xacro", "robot.urdf.xacro", "unused.xacro",
+                               "wheel.xacro"]
+    checked.clear()
+    check("--changed", "urdf/wheel.xacro")  # known: only the entry that reads it
+    assert checked == ["robot.urdf.xacro"]
+    checked.clear()
+    _, report, _ = check("--changed", "urdf/materials.xacro")
+    assert sorted(checked) == ["other.urdf.xacro", "robot.urdf.xacro"]
+    assert [f["path"] for f in report["files"]] == ["urdf/other.urdf.xacro",
+                                                     "urdf/robot.urdf.xacro"]
+    # a file changed since is expanded again (it may read other files now)
+    other = demo / "urdf" / "other.urdf.xacro"
+    other.write_text(other.read_text().replace("materials.xacro", "wheel.xacro"))
+    checked.clear()
+    _, report, _ = check("--changed", "urdf/wheel.xacro")
+    assert sorted(checked) == ["other.urdf.xacro", "robot.urdf.xacro"]
+    assert [f["path"] for f in report["files"]] == ["urdf/other.urdf.xacro",
+                                                     "urdf/robot.urdf.xacro"]

@@ -1,9 +1,12 @@
-"""urdftool as a pre-commit hook: the real `pre-commit` package installs this repository's hook
-(.pre-commit-hooks.yaml) in a temporary git repository and runs it on a good and a bad file."""
+"""urdftool as a pre-commit hook, with the real `pre-commit` package: the hook this repository
+ships (.pre-commit-hooks.yaml, installed once in its own environment) and the README's local
+hook, as written, in temporary git repositories: single files, and a package with fragments
+committed the way a team commits (issue 13)."""
 
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -13,36 +16,154 @@ import pytest
 
 from tests.conftest import ROOT
 
+pytestmark = pytest.mark.skipif(shutil.which("git") is None, reason="git is not installed")
+
 GOOD = '<?xml version="1.0"?>\n<robot name="r"><link name="base"/></robot>\n'
 BAD = '<?xml version="1.0"?>\n<robot name="r"><link name="base"></robot>\n'
+DEMO = Path(__file__).parent / "data" / "packages" / "demo_description"
 
 
-def _git(cwd: Path, *args: str) -> None:
-    subprocess.run(["git", *args], cwd=cwd, check=True, capture_output=True)
+def _git(cwd: Path, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(["git", *args], cwd=cwd, check=True, capture_output=True, text=True)
 
 
-@pytest.mark.skipif(shutil.which("git") is None, reason="git is not installed")
-def test_pre_commit_hook_blocks_a_broken_robot(tmp_path):
-    repo = tmp_path / "robot_description"
-    repo.mkdir()
-    _git(repo, "init", "-q")
+def _env(home: Path, path_first: Path | None = None) -> dict:
+    env = {**os.environ, "PRE_COMMIT_HOME": str(home), "GIT_AUTHOR_NAME": "t",
+           "GIT_AUTHOR_EMAIL": "t@t", "GIT_COMMITTER_NAME": "t", "GIT_COMMITTER_EMAIL": "t@t",
+           "URDFTOOL_CACHE_DIR": str(home / "urdftool-cache")}
+    env.pop("URDFTOOL_DEBUG", None)
+    if path_first is not None:
+        env["PATH"] = f"{path_first}{os.pathsep}{env['PATH']}"
+    return env
+
+
+@pytest.fixture(scope="module")
+def shipped(tmp_path_factory) -> tuple[str, str, Path]:
+    """(repo, rev, PRE_COMMIT_HOME): this working tree's tracked files committed to a scratch
+    repository (what a clone at a commit holds), its hook environment installed once."""
+    base = tmp_path_factory.mktemp("hook")
+    source = base / "urdftool"
+    files = _git(ROOT, "ls-files", "-z", "--cached", "--others", "--exclude-standard").stdout
+    for name in filter(None, files.split("\0")):
+        if (ROOT / name).is_file():
+            (source / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(ROOT / name, source / name)
+    _git(source, "init", "-q")
+    _git(source, "add", ".")
+    _git(source, "-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "snapshot")
+    rev = _git(source, "rev-parse", "HEAD").stdout.strip()
+    return str(source), rev, base / "pre-commit-home"
+
+
+def _repo(path: Path, config: str) -> Path:
+    path.mkdir()
+    _git(path, "init", "-q")
+    (path / ".pre-commit-config.yaml").write_text(config)
+    return path
+
+
+def _shipped_config(shipped) -> str:
+    repo, rev, _ = shipped
+    return f"repos:\n  - repo: {repo}\n    rev: {rev}\n    hooks:\n      - id: urdftool\n"
+
+
+def _commit(repo: Path, env: dict, message: str) -> subprocess.CompletedProcess:
+    _git(repo, "add", "-A")  # the hook's output: on stderr, which git gives the hook
+    return subprocess.run(["git", "commit", "-qm", message], cwd=repo, env=env,
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                          timeout=900, check=False)
+
+
+def test_shipped_hook_blocks_a_broken_robot(shipped, tmp_path):
+    repo = _repo(tmp_path / "robot_description", _shipped_config(shipped))
     (repo / "good.urdf").write_text(GOOD)
     (repo / "bad.urdf").write_text(BAD)
     _git(repo, "add", ".")
-    env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "cache"),
-           "GIT_AUTHOR_NAME": "t", "GIT_AUTHOR_EMAIL": "t@t", "GIT_COMMITTER_NAME": "t",
-           "GIT_COMMITTER_EMAIL": "t@t"}
-    env.pop("URDFTOOL_DEBUG", None)
+    env = _env(shipped[2])
 
-    def try_repo(*files: str) -> subprocess.CompletedProcess:
-        return subprocess.run([sys.executable, "-m", "pre_commit", "try-repo", str(ROOT), "urdftool",
-                               "--files", *files], check=False, cwd=repo, env=env,
-                              capture_output=True,
-                              text=True, timeout=600)
+    def run(*files: str) -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, "-m", "pre_commit", "run", "--files", *files],
+                              check=False, cwd=repo, env=env, capture_output=True, text=True,
+                              timeout=900)
 
-    good = try_repo("good.urdf")
+    good = run("good.urdf")
     assert good.returncode == 0, good.stdout + good.stderr
     assert "Passed" in good.stdout
-    bad = try_repo("bad.urdf")
+    bad = run("bad.urdf")
     assert bad.returncode == 1, bad.stdout + bad.stderr
     assert "Failed" in bad.stdout and "bad.urdf:" in bad.stdout
+
+
+def test_shipped_hook_gates_a_package_with_fragments(shipped, tmp_path):
+    repo = _repo(tmp_path / "team", _shipped_config(shipped))
+    package = repo / "demo_description"
+    shutil.copytree(DEMO, package)
+    env = _env(shipped[2])
+    subprocess.run([sys.executable, "-m", "pre_commit", "install"], cwd=repo, env=env,
+                   check=True, capture_output=True)
+    first = _commit(repo, env, "a clean package")
+    assert first.returncode == 0, first.stdout + first.stderr  # fragments are not robots
+
+    # a broken fragment is blocked, the finding at the fragment's line
+    wheel = package / "urdf" / "wheel.xacro"
+    wheel.write_text(wheel.read_text().replace('<axis xyz="0 0 1"/>', '<axis xyz="0 0 0"/>'))
+    blocked = _commit(repo, env, "zero axis")
+    line = next(n for n, text in enumerate(wheel.read_text().splitlines(), 1) if "<axis" in text)
+    assert blocked.returncode != 0
+    assert f"demo_description/urdf/wheel.xacro:{line}:" in blocked.stdout
+    assert "joint.zero-axis" in blocked.stdout and "in 4 instances" in blocked.stdout
+    _git(repo, "reset", "-q", "--hard")  # the scratch repository, back to its last commit
+
+    # a change that is wrong only where the entry uses it: the includer is checked again
+    camera = package / "urdf" / "camera.xacro"
+    camera.write_text(camera.read_text().replace('<parent link="base_link"/>',
+                                                 '<parent link="base_lnk"/>'))
+    blocked = _commit(repo, env, "mount on a link that does not exist")
+    line = next(n for n, text in enumerate(camera.read_text().splitlines(), 1)
+                if "base_lnk" in text)
+    assert blocked.returncode != 0
+    assert "structure.missing-link" in blocked.stdout, blocked.stdout
+    assert re.search(rf"demo_description/urdf/camera\.xacro:({line - 1}|{line}):",
+                     blocked.stdout), blocked.stdout
+    _git(repo, "reset", "-q", "--hard")  # the scratch repository, back to its last commit
+
+    # meshes are checked in the hook's environment: an unreadable mesh blocks the commit
+    (package / "meshes").mkdir()
+    shutil.copy(ROOT / "urdftool" / "physics" / "examples" / "corrupt.stl",
+                package / "meshes" / "cover.stl")
+    camera.write_text(camera.read_text().replace(
+        '<visual><geometry><box size="0.04 0.04 0.04"/></geometry></visual>',
+        '<visual><geometry><mesh filename="package://demo_description/meshes/cover.stl"/>'
+        '</geometry></visual>'))
+    blocked = _commit(repo, env, "a mesh")
+    assert blocked.returncode != 0 and "mesh.unreadable" in blocked.stdout, blocked.stdout
+
+
+def test_hook_installs_the_mesh_extra():
+    import tomllib
+    import yaml
+
+    [hook] = yaml.safe_load((ROOT / ".pre-commit-hooks.yaml").read_text())
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"][
+        "optional-dependencies"]
+    assert hook["additional_dependencies"] == extras["mesh"]
+    assert hook["entry"] == "urdftool check --changed" and hook["require_serial"] is True
+
+
+def _readme_snippet(name: str) -> str:
+    readme = (ROOT / "README.md").read_text()
+    after = readme.split(f"<!-- snippet: {name} ", 1)[1]
+    return after.split("```yaml\n", 1)[1].split("```", 1)[0]
+
+
+def test_readme_local_hook_works_as_written(tmp_path):
+    repo = _repo(tmp_path / "team", _readme_snippet("pre-commit-local"))
+    shutil.copytree(DEMO, repo / "demo_description")
+    env = _env(tmp_path / "home", Path(sys.executable).parent)  # urdftool installed here
+    subprocess.run([sys.executable, "-m", "pre_commit", "install"], cwd=repo, env=env,
+                   check=True, capture_output=True)
+    assert _commit(repo, env, "clean").returncode == 0
+    unused = repo / "demo_description" / "urdf" / "unused.xacro"
+    unused.write_text(unused.read_text().replace("<mu1>0.1</mu1>", "<mu1>0.1</mu>"))
+    blocked = _commit(repo, env, "broken")
+    assert blocked.returncode != 0 and "unused.xacro:6:" in blocked.stdout, blocked.stdout

@@ -13,7 +13,7 @@ from pathlib import Path
 from urdftool.config import Config, suppressions
 from urdftool.errors import ToolError
 from urdftool.model import build_robot
-from urdftool.package import Target, classify, plan, role
+from urdftool.package import Target, classify, plan, role, store_reads, unaffected
 from urdftool.report import (
     Diagnostic,
     FileReport,
@@ -126,14 +126,21 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
     thresholds = gc.get_threshold()
     gc.set_threshold(max(thresholds[0], 20000), *thresholds[1:])
     try:
+        todo, reports = unaffected(files, given, options.load)  # changed files: what reads them
+        targets = [files[i] for i in todo]
+        jobs = min(jobs, len(targets))
         if jobs <= 1 or options.debug or not hasattr(os, "fork"):  # --debug: tracebacks here
-            reports = []
-            for file in files:
-                reports.append(check_file(file.path, options, file))
+            checked = []
+            for target in targets:
+                checked.append(check_file(target.path, options, target))
                 if progress is not None:
-                    progress(len(reports), len(files))
+                    progress(len(checked), len(targets))
         else:
-            reports = _check_in_workers(files, options, jobs, progress)
+            checked = _check_in_workers(targets, options, jobs, progress)
+        for i, report in zip(todo, checked):
+            reports[i] = report
+            if given is not None:
+                store_reads(files[i], options.load, report)
         shown, notes = classify(files, reports, given)
         return Report(merge_repeats(shown), notes)
     finally:

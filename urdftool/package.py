@@ -40,8 +40,8 @@ class Target(NamedTuple):
     """One check of a run: a file, its xacro arguments and packages (from the configuration)."""
 
     path: str
-    args: dict[str, str] = {}
-    packages: dict[str, str] = {}
+    args: dict[str, str] = {}  # noqa: RUF012 - never mutated (a NamedTuple field)
+    packages: dict[str, str] = {}  # noqa: RUF012 - never mutated
     configured: bool = False  # listed in ``entries``: always an entry
 
 
@@ -191,3 +191,100 @@ def role(source) -> str:
         if isinstance(tag, str) and tag not in DEFINITION_TAGS:
             return "entry"
     return "fragment"
+
+
+# -- what each check read, kept between runs (changed-files mode) -----------------------------
+# A hook run on a changed file must know which entries read it. Expanding every entry for that
+# costs as much as checking the package; the files each check read (with their size and
+# modification time) are kept in the persistent cache instead, so that the next run checks only
+# the entries that read a given file, and the checks whose files changed since (or that had a
+# xacro error: an include that failed may succeed now).
+
+
+def _reads_entry(target: Target, load_options) -> Path:
+    import hashlib
+    import json
+
+    from urdftool import __version__, cache
+
+    key = json.dumps([str(Path(target.path).resolve()), target.args, target.packages,
+                      load_options.xacro_args, load_options.packages, load_options.untrusted,
+                      os.environ.get("ROS_PACKAGE_PATH", ""),
+                      os.environ.get("AMENT_PREFIX_PATH", ""), __version__], sort_keys=True)
+    return cache.directory() / "reads" / hashlib.sha256(key.encode()).hexdigest()[:40]
+
+
+def _stamp(path: str) -> list | None:
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return [path, st.st_size, st.st_mtime_ns]
+
+
+def unaffected(targets: list[Target], given: set[str] | None,
+               load_options) -> tuple[list[int], list]:
+    """(the indices of the targets to check, a report per target: for those that need no check
+    in changed-files mode, what they read from the cache; None for the others)."""
+    reports: list = [None] * len(targets)
+    if given is None:
+        return list(range(len(targets))), reports
+    known = [cached_reads(target, load_options) for target in targets]
+    read_by_others: set[str] = set()
+    for reads in known:
+        if reads is not None:
+            read_by_others.update(reads[0])
+    todo = []
+    for index, (target, reads) in enumerate(zip(targets, known)):
+        if reads is None or given.intersection(reads[0]) or (
+                str(Path(target.path).resolve()) in given  # a given fragment that an entry
+                and not (reads[1] == "fragment" and str(Path(target.path).resolve())  # reads
+                         in read_by_others)):  # is checked through that entry only
+            todo.append(index)
+        else:
+            reports[index] = FileReport(target.path, None)
+            reports[index].includes, reports[index].role = reads
+    return todo, reports
+
+
+def cached_reads(target: Target, load_options) -> tuple[tuple[str, ...], str] | None:
+    """(the files a check of ``target`` read besides itself, its role) when recorded and none
+    of those files changed since; else None."""
+    import json
+
+    from urdftool import cache
+
+    if not cache.ENABLED:
+        return None
+    try:
+        data = json.loads(_reads_entry(target, load_options).read_text(encoding="utf-8"))
+        stamps, role = data["files"], data["role"]
+        if not all(isinstance(s, list) and _stamp(s[0]) == s for s in stamps):
+            return None
+        return tuple(s[0] for s in stamps[1:]), role
+    except (OSError, ValueError, KeyError, TypeError, IndexError, RuntimeError):
+        return None
+
+
+def store_reads(target: Target, load_options, report: FileReport) -> None:
+    """Record what the check of ``target`` read (nothing when it had a xacro error)."""
+    import json
+    import tempfile
+
+    from urdftool import cache
+
+    if not cache.ENABLED or any(d.rule in ("xacro.error", "xacro.limit-exceeded")
+                                for d in report.diagnostics):
+        return
+    stamps = [_stamp(str(Path(target.path).resolve()))] + [_stamp(p) for p in report.includes]
+    if any(s is None for s in stamps):
+        return
+    entry = _reads_entry(target, load_options)
+    try:
+        entry.parent.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=entry.parent, prefix=".tmp-")
+        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+            json.dump({"files": stamps, "role": report.role}, stream)
+        os.replace(temporary, entry)
+    except (OSError, RuntimeError):
+        pass
