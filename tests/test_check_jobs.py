@@ -121,7 +121,8 @@ def test_default_jobs_are_the_cpus_available(monkeypatch, tmp_path, write):
     seen = []
     monkeypatch.setattr(check, "available_cpus", lambda: 2)
     monkeypatch.setattr(check, "_check_in_workers",
-                        lambda files, options, jobs, progress=None: seen.append(jobs) or [])
+                        lambda files, options, jobs, progress=None: seen.append(jobs) or
+                        [check.check_file(f.path, options, f) for f in files])
     check.check_paths([str(tmp_path)])
     check.check_paths([str(tmp_path / "r0.urdf")])  # one file: in-process
     check.check_paths([str(tmp_path)], check.CheckOptions(jobs=1))
