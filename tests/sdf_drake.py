@@ -109,8 +109,15 @@ def compare(sdf: Path, urdf_text: str, configurations: int = 20, seed: int = 0,
     missing = [k for k in a.bodies if renamed.get(k, urdf_name(k)) not in b.bodies]
     assert not missing, f"SDF bodies missing from the URDF: {missing}"
     pairs = [(a.bodies[k], b.bodies[renamed.get(k, urdf_name(k))]) for k in a.bodies]
-    movable = [k for k, j in a.joints.items() if j.type_name() in ONE_DOF
-               and renamed.get(k, urdf_name(k)) in b.joints]
+
+    def urdf_joint(key: str) -> str | None:
+        """Drake files a joint under its child's model instance: a joint of the top model
+        whose child is nested is 'nested::joint' there, 'joint' in the URDF."""
+        candidates = (renamed.get(key), urdf_name(key), key.rsplit("::", 1)[-1])
+        return next((c for c in candidates if c in b.joints), None)
+
+    movable = {k: urdf_joint(k) for k, j in a.joints.items()
+               if j.type_name() in ONE_DOF and urdf_joint(k)}
     rng = np.random.default_rng(seed)
     worst = {"pose": 0.0, "mass": 0.0, "com": 0.0, "inertia": 0.0, "configurations": 0}
     # A URDF link's frame may differ from the SDF link's (a moving child's frame is its joint's);
@@ -130,7 +137,7 @@ def compare(sdf: Path, urdf_text: str, configurations: int = 20, seed: int = 0,
     for index in range(configurations + 1):
         values = {} if index == 0 else {k: float(rng.uniform(-np.pi, np.pi)) for k in movable}
         a.set(values)
-        urdf_values = {renamed.get(k, urdf_name(k)): v for k, v in values.items()}
+        urdf_values = {movable[k]: v for k, v in values.items()}
         for follower, (leader, multiplier, offset) in mimics.items():
             if leader in urdf_values and follower in b.joints:
                 urdf_values[follower] = multiplier * urdf_values[leader] + offset

@@ -88,7 +88,7 @@ def test_parallel_links_of_a_gripper_stay_attached(tmp_path):
                    + joint(f"{side}_parallel_root", f"{side}_parallel", "palm")
                    + joint(f"{side}_parallel_tip", f"{side}_parallel", f"{side}_tip"))
         cut.append(f"{side}_parallel_tip")
-    path, urdf, result = convert(tmp_path, sdf(links + joints))
+    _path, urdf, result = convert(tmp_path, sdf(links + joints))
     assert result.code == 0, result.err
     assert 'type="floating"' not in urdf
     for name in cut:
@@ -107,7 +107,7 @@ def test_screw_link_parent_of_its_only_joint(tmp_path):
     links = link("frame") + link("nut", "0.1 0 0 0 0 0") + link("screw", "0.1 0 0.05 0 0 0.3")
     slide = joint("slide", "frame", "nut", "prismatic", axis="1 0 0")
     pitch = "<screw_thread_pitch>0.02</screw_thread_pitch>"
-    path, urdf, result = convert(tmp_path, sdf(links + slide + joint(
+    _path, urdf, result = convert(tmp_path, sdf(links + slide + joint(
         "screw_joint", "screw", "nut", "screw", axis="0.2 0 1", pose="0 0.01 0 0.1 0 0",
         extra=pitch), version="1.10"))
     assert result.code == 0, result.err
@@ -219,9 +219,126 @@ def test_matrix_rpy_against_drake_near_gimbal_lock():
 def test_universal_without_axes_warns_with_what_readers_do(tmp_path):
     text = sdf(link("base") + link("arm", "0 0 0.5 0 0 0")
                + '<joint name="u" type="universal"><parent>base</parent><child>arm</child></joint>')
-    path, urdf, result = convert(tmp_path, text)
+    path, _urdf, result = convert(tmp_path, text)
     assert result.code == 0
     warning = [line for line in result.err.splitlines() if "joint 'u' has no <axis>" in line]
     assert warning and "warning" in warning[0] and "about the same line" in warning[0]
     with pytest.raises(RuntimeError, match="Both axis and axis2 must be specified"):
         Plant(path=path)  # the oracle refuses the file, as the warning says
+
+
+# -- 1. SDFormat < 1.7: a joint (frame) with a link's name ---------------------------------------
+
+
+def names_clash(version: str) -> str:
+    """create/turtlebot shape: joints named after their child links, a frame named after a
+    link, and a joint written before the link whose name it takes."""
+    return sdf(link("base") + link("wheel", "0 0.1 0 -1.5707963267948966 0 0")
+               + joint("wheel", "base", "wheel", axis="0 0 1", pose="0 0 0.01 0 0 0")
+               + '<frame name="base"><pose>0 0 0.2 0 0 0</pose></frame>'
+               + joint("caster", "base", "caster", axis="0 1 0")
+               + link("caster", "0.2 0 -0.05 0 0 0", 0.2), version=version)
+
+
+def test_below_1_7_clashing_names_are_renamed_as_libsdformat_does(tmp_path):
+    _path, urdf, result = convert(tmp_path, names_clash("1.6"))
+    assert result.code == 0, result.err
+    for kind, written, renamed in (("joint", "wheel", "wheel_joint"),
+                                   ("frame", "base", "base_frame"),
+                                   ("link", "caster", "caster_link")):
+        line = next(l for l in result.err.splitlines() if f"{kind} '{written}' has" in l)
+        assert "warning" in line and f"'{renamed}'" in line and "Gazebo" in line
+        assert "[sdf.duplicate-name]" in line
+    assert 'type="floating"' not in urdf
+    # Drake refuses the clash even below 1.7: it loads the file with the names libsdformat
+    # gives them (written out here; below 1.7 a joint's <child> names a link)
+    renamed = tmp_path / "renamed.sdf"
+    renamed.write_text(names_clash("1.6").replace('<joint name="wheel"', '<joint name="wheel_joint"')
+                       .replace('<frame name="base"', '<frame name="base_frame"')
+                       .replace('<link name="caster"', '<link name="caster_link"')
+                       .replace("<child>caster<", "<child>caster_link<"))
+    assert_matches(compare(renamed, urdf))
+
+
+def test_from_1_7_clashing_names_are_refused(tmp_path):
+    path, _urdf, result = convert(tmp_path, names_clash("1.7"))
+    assert result.code == 1
+    errors = [l for l in result.err.splitlines() if "[sdf.duplicate-name]" in l]
+    assert errors and all(": error:" in l and "libsdformat refuses" in l for l in errors)
+    with pytest.raises(RuntimeError, match="(?i)name"):
+        Plant(path=path)
+
+
+# -- 4. libsdformat's flattened nested models: 'X::__model__' frames ------------------------------
+
+
+FLATTENED = sdf(
+    link("base", "0 0 0.1 0 0 0")
+    + '<frame name="arm::__model__" attached_to="arm::upper"><pose relative_to="__model__">'
+      "1.2 0.4 0.3 0 0 0.5</pose></frame>"
+    + '<link name="arm::upper"><pose relative_to="arm::__model__">0 0 0.5 0.2 0 0</pose>'
+    + INERTIAL.format(c=0.1, m=1) + "</link>"
+    + '<link name="arm::lower"><pose relative_to="arm::__model__">0 0 1.2 0 0.3 0</pose>'
+    + INERTIAL.format(c=0.2, m=1) + "</link>"
+    + '<joint name="arm::elbow" type="revolute"><pose relative_to="arm::__model__">0 0 0.9 0 0 0'
+      "</pose><parent>arm::upper</parent><child>arm::lower</child><axis><xyz "
+      'expressed_in="arm::__model__">0 1 0</xyz></axis></joint>'
+    + joint("mount", "base", "arm::upper", axis="1 0 0"))
+
+
+NESTED = sdf(  # the same model before flattening: what Drake loads ('::' names it has not)
+    link("base", "0 0 0.1 0 0 0")
+    + '<model name="arm"><pose>1.2 0.4 0.3 0 0 0.5</pose>'
+    + '<link name="upper"><pose>0 0 0.5 0.2 0 0</pose>' + INERTIAL.format(c=0.1, m=1) + "</link>"
+    + '<link name="lower"><pose>0 0 1.2 0 0.3 0</pose>' + INERTIAL.format(c=0.2, m=1) + "</link>"
+    + '<joint name="elbow" type="revolute"><pose relative_to="__model__">0 0 0.9 0 0 0</pose>'
+      "<parent>upper</parent><child>lower</child><axis><xyz expressed_in="
+      '"__model__">0 1 0</xyz></axis></joint></model>'
+    + joint("mount", "base", "arm::upper", axis="1 0 0"))
+
+
+def test_flattened_model_frames_resolve(tmp_path):
+    _path, urdf, result = convert(tmp_path, FLATTENED)
+    assert result.code == 0, result.err
+    assert "sdf.missing-frame" not in result.err
+    nested = tmp_path / "nested.sdf"
+    nested.write_text(NESTED)
+    assert_matches(compare(nested, urdf))
+
+
+def test_missing_frame_hint_does_not_repeat_the_name(tmp_path):
+    text = FLATTENED.replace('relative_to="arm::__model__">0 0 1.2', 'relative_to="arm::__modle__">0 0 1.2')
+    _, _, result = convert(tmp_path, text)
+    line = next(l for l in result.err.splitlines() if "[sdf.missing-frame]" in l)
+    assert "'arm::__modle__'" in line and "did you mean 'arm::__model__'?" in line
+    assert "did you mean 'arm::__modle__'" not in line
+
+
+# -- 5. include URIs given as a bare model name ---------------------------------------------------
+
+
+@pytest.mark.parametrize("how", ["--model-path", "GZ_SIM_RESOURCE_PATH", "SDF_PATH"])
+def test_bare_model_name_include_is_found_on_the_model_paths(tmp_path, how, monkeypatch):
+    models = tmp_path / "models"
+    (models / "my_wheel").mkdir(parents=True)
+    (models / "my_wheel" / "model.config").write_text(
+        "<model><name>my_wheel</name><sdf version='1.7'>wheel.sdf</sdf></model>")
+    (models / "my_wheel" / "wheel.sdf").write_text(sdf(link("tyre", "0 0 0 1.5707963267948966 0 0"),
+                                                       name="my_wheel"))
+    text = sdf(link("chassis") + "<include><uri>my_wheel</uri><name>left</name>"
+               "<pose>0 0.3 0 0 0 0</pose></include>"
+               + joint("axle", "chassis", "left::tyre", axis="0 1 0"), version="1.8")
+    work = tmp_path / "work"
+    work.mkdir()
+    extra = []
+    if how == "--model-path":
+        extra = ["--model-path", str(models)]
+    else:
+        monkeypatch.setenv(how, str(models))
+    _path, urdf, result = convert(work, text, *extra)
+    assert result.code == 0, result.err
+    assert "sdf.include" not in result.err and 'link name="left__tyre"' in urdf
+    # Drake resolves model://NAME through its package map: it loads the same model that way
+    by_uri = work / "by_uri.sdf"
+    by_uri.write_text(text.replace("<uri>my_wheel</uri>", "<uri>model://my_wheel/wheel.sdf</uri>"))
+    assert_matches(compare(by_uri, urdf, model_paths=(models,)))

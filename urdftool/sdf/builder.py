@@ -229,7 +229,8 @@ class Builder:
                     return None
                 ends.append(WORLD)
                 continue
-            key = self.graph.reference(entity.scope, name, child, f"joint {tag}")
+            key = self.graph.link_written(entity.scope, name) or \
+                self.graph.reference(entity.scope, name, child, f"joint {tag}")
             if key is None:
                 return None
             link = self.graph.attached_link(key)

@@ -44,11 +44,15 @@ class PoseGraph:
         if node.key in self.nodes:
             other = self.nodes[node.key]
             other_element = other.entity.element if other.entity else other.model.element
+            scope = node.scope if node.model is None else node.model
             self.reader.report(
                 "sdf.duplicate-name",
                 f"name '{node.key}' is used twice in one model (also at line "
-                f"{other_element.sourceline})", element,
-                hint="links, joints, frames and nested models of one model need distinct names")
+                f"{other_element.sourceline}): libsdformat refuses the model (Gazebo does not "
+                "load it); the second is left out here", element,
+                hint="links, joints, frames and nested models of one model need distinct names"
+                + ("" if scope.version >= (1, 7) else
+                   " (below SDFormat 1.7 only a link, a joint and a frame may share one)"))
             return
         self.nodes[node.key] = node
 
@@ -58,11 +62,26 @@ class PoseGraph:
         """The node key that ``name``, written in ``scope``, refers to (None if none)."""
         if name == "__model__":
             return scope.frame_key
-        if name == "world" and scope.prefix + "world" not in self.nodes:
+        if scope.prefix + name in self.nodes:  # also a flattened model's 'X::__model__' frame
+            return scope.prefix + name
+        if name == "world":
             return WORLD
-        name = name.removesuffix("::__model__")
-        key = scope.prefix + name
-        return key if key in self.nodes else None
+        if name.endswith("::__model__"):  # the frame of the nested model X
+            key = scope.prefix + name.removesuffix("::__model__")
+            node = self.nodes.get(key)
+            return key if node is not None and node.model is not None else None
+        return None
+
+    @staticmethod
+    def link_written(scope: Scope, name: str) -> str | None:
+        """Below SDFormat 1.7 a joint's parent and child name links, by the name written, even
+        where libsdformat renamed a link that shared its name with a joint or frame."""
+        if scope.version >= (1, 7):
+            return None
+        return next((e.key for e in scope.links if e.written == name), None)
+
+    def joint_end(self, scope: Scope, name: str) -> str | None:
+        return self.link_written(scope, name) or self.lookup(scope, name)
 
     def _report_once(self, element, rule: str, message: str, hint: str | None = None) -> None:
         if element is None or id(element) in self._reported:
@@ -76,7 +95,7 @@ class PoseGraph:
             known = sorted(k[len(scope.prefix):] for k in self.nodes if k.startswith(scope.prefix))
             import difflib
 
-            guess = difflib.get_close_matches(name, known, n=1)
+            guess = [g for g in difflib.get_close_matches(name, known, n=2) if g != name]
             self._report_once(element, "sdf.missing-frame",
                               f"{what} '{name}' names no link, joint, frame or model in "
                               f"model '{scope.name}'",
@@ -92,7 +111,7 @@ class PoseGraph:
             return node.scope.frame_key
         if entity.kind == "joint":
             child = entity.element.findtext("child")
-            key = self.lookup(entity.scope, (child or "").strip()) if child else None
+            key = self.joint_end(entity.scope, (child or "").strip()) if child else None
             return key if key not in (None, WORLD) else entity.scope.frame_key
         if entity.kind == "frame" and entity.attached_to:
             key = self.lookup(entity.scope, entity.attached_to)
@@ -196,7 +215,7 @@ class PoseGraph:
             return key
         if entity.kind == "joint":
             child = (entity.element.findtext("child") or "").strip()
-            target = self.lookup(entity.scope, child) if child else None
+            target = self.joint_end(entity.scope, child) if child else None
             return self.attached_link(target, seen) if target else None
         attached = entity.attached_to
         if not attached:

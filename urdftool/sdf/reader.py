@@ -55,6 +55,7 @@ class Entity:
     pose_element: etree._Element | None = None
     relative_to: str | None = None  # as written (None: the default for this kind)
     attached_to: str | None = None  # frames
+    written: str = ""  # the name as written, when libsdformat renamed it (SDFormat < 1.7)
 
     @property
     def key(self) -> str:
@@ -375,6 +376,7 @@ class Reader:
                 scope.placement_element = include.find("placement_frame")
             if include.find("static") is not None:
                 scope.static = self.boolean(include, "static", False)
+        taken: dict[str, str] = {}  # name -> kind, in document order (libsdformat's order)
         for child in element:
             if not isinstance(child.tag, str):
                 continue
@@ -385,19 +387,44 @@ class Reader:
                     self.report("sdf.missing-element", f"<{tag}> has no name", child,
                                 hint=f'write <{tag} name="...">')
                     continue
+                if taken.get(entity.name, tag) != tag and version < (1, 7):
+                    self._rename(entity, taken)
+                taken.setdefault(entity.name, tag)
                 entity.pose, entity.pose_element, entity.relative_to = self.pose(child, version)
                 if tag == "frame":
                     entity.attached_to = child.get("attached_to") or None
                 getattr(scope, tag + "s").append(entity)
             elif tag == "model":
                 scope.models.append(self.read_model(child, doc, scope))
+                taken.setdefault(scope.models[-1].name, tag)
             elif tag == "include":
                 included = self.read_include(child, scope)
                 if included is not None:
                     scope.models.append(included)
+                    if not included.merged:
+                        taken.setdefault(included.name, "model")
             elif tag == "plugin":
                 scope.plugins.append(child)
         return scope
+
+    def _rename(self, entity: Entity, taken: dict[str, str]) -> None:
+        """SDFormat < 1.7 allowed a link, joint and frame of one model to share a name;
+        libsdformat (so Gazebo) loads such a file and renames the later element NAME_joint
+        (NAME_link, NAME_frame; then NAME_joint0, NAME_joint1...). So does urdftool."""
+        written, kind = entity.name, entity.kind
+        name, index = f"{written}_{kind}", 0
+        while name in taken:
+            name, index = f"{written}_{kind}{index}", index + 1
+        entity.written, entity.name = written, name
+        other = taken[written]
+        self.report("sdf.duplicate-name",
+                    f"{kind} '{written}' has the name of a {other} of model "
+                    f"'{entity.scope.name}': SDFormat {_v(entity.scope.version)} allows it, and "
+                    f"libsdformat (so Gazebo) loads the file with a warning, renaming this "
+                    f"{kind} '{name}'; the URDF does the same (from SDFormat 1.7 on, libsdformat "
+                    "refuses the file)", entity.element, severity="warning",
+                    hint=f'rename it <{kind} name="{name}"> (names must be unique before the '
+                         "file can say version 1.7 or newer)")
 
     # -- includes ---------------------------------------------------------------------------
 
@@ -412,7 +439,8 @@ class Reader:
         if target is None:
             where = ", ".join(str(p) for p in self.model_paths) or "none given"
             hint = ("give the models' folder with --model-path DIR or GZ_SIM_RESOURCE_PATH"
-                    if uri.startswith("model://") else "check the path")
+                    if uri.startswith("model://") or "/" not in uri.strip("/")
+                    else "check the path, or give its folder with --model-path DIR")
             if uri.startswith(("http://", "https://")):
                 hint = "urdftool does not download models; download it and use --model-path"
             self.report("sdf.include", f"cannot resolve include '{uri}' (model paths: {where})",
@@ -495,8 +523,15 @@ class Reader:
             resolver = self.source.resolver
             found = resolver.find(package) if resolver is not None else None
             return (found / inner) if found is not None and (found / inner).exists() else None
-        candidate = Path(uri) if os.path.isabs(uri) else base / uri
-        return candidate if candidate.exists() else None
+        if os.path.isabs(uri):
+            return Path(uri) if Path(uri).exists() else None
+        # a relative path or a bare model name: beside the file, then on the model paths
+        # (libsdformat's findFile: the local path, SDF_PATH, then the simulator's resource paths)
+        for directory in (base, *self.model_paths):
+            candidate = directory / uri
+            if candidate.exists():
+                return candidate
+        return None
 
     def _model_file(self, target: Path) -> Path | None:
         if target.is_file():
