@@ -113,7 +113,12 @@ source_rule(
 source_rule(
     "sdf.duplicate-name", "error", "two links, joints, frames or models share a name",
     doc="""Names are how joints, poses and plugins find things; two with one name make every
-    reference ambiguous. SDFormat requires distinct names among the frames of a model.""",
+    reference ambiguous. SDFormat requires distinct names among the frames of a model, and
+    libsdformat follows the version: two links (two joints, two frames) with one name are
+    refused in every version; below 1.7 a link, a joint and a frame may share a name, and
+    libsdformat (so Gazebo) loads the file with a warning, renaming the later one in document
+    order `NAME_joint`, `NAME_link` or `NAME_frame` (then `NAME_joint0`...): urdftool does the
+    same and says so (a warning). From 1.7 on the clash is refused (an error).""",
     bad=_model(_BASE + _LINK.format("base")),
     good=_model(_BASE + _ARM),
 )
