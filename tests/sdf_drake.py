@@ -87,18 +87,69 @@ class Plant:
         return mass, pose[:3, :3] @ com + pose[:3, 3], rotation @ about_com @ rotation.T
 
 
+def drake_copy(path: Path, directory: Path, model_paths: tuple[Path, ...] = (),
+               model: str | None = None) -> tuple[Path, Plant | RuntimeError]:
+    """The file as Drake will read it: Drake's libsdformat refuses elements and attributes
+    SDFormat does not define (pybullet_data's <contact>, concave="yes") where Gazebo ignores
+    them, and resolves model://NAME only to a file: those are removed or completed here.
+    Nothing that places a body, a joint or a mass is touched. Returns the copy and its plant
+    (or Drake's refusal)."""
+    import re
+
+    text = path.read_text()
+    for directory_ in model_paths:
+        for config in Path(directory_).glob("*/model.config"):
+            name = config.parent.name
+            for candidate in ("model.sdf", *sorted(p.name for p in config.parent.glob("*.sdf"))):
+                if (config.parent / candidate).exists():
+                    text = text.replace(f"<uri>model://{name}</uri>",
+                                        f"<uri>model://{name}/{candidate}</uri>")
+                    break
+    out = directory / path.name
+    refusal = RuntimeError("Drake kept refusing the file")
+    for _ in range(20):
+        out.write_text(text)
+        try:
+            return out, Plant(path=out, model=model, model_paths=model_paths)
+        except RuntimeError as exc:
+            refusal, message = exc, str(exc)
+            attribute = re.search(r"XML Attribute\[(\w+)\] in element\[(\w+)\]", message)
+            element = re.search(r"XML Element\[(\w+)\], child of element\[(\w+)\]", message)
+            if attribute:
+                root = etree.fromstring(text.encode())
+                for node in root.iter(attribute.group(2)):
+                    node.attrib.pop(attribute.group(1), None)
+                text = etree.tostring(root, encoding="unicode")
+            elif element:
+                root = etree.fromstring(text.encode())
+                for node in list(root.iter(element.group(1))):
+                    if node.getparent().tag == element.group(2):
+                        node.getparent().remove(node)
+                text = etree.tostring(root, encoding="unicode")
+            else:
+                return out, exc  # refused for another reason
+    return out, refusal
+
+
 def urdf_name(key: str) -> str:
     return key.replace("::", "__")
 
 
 def compare(sdf: Path, urdf_text: str, configurations: int = 20, seed: int = 0,
             renamed: dict[str, str] | None = None, model: str | None = None,
-            model_paths: tuple[Path, ...] = ()) -> dict[str, float]:
+            model_paths: tuple[Path, ...] = (), plant: Plant | None = None) -> dict[str, float]:
     """Largest differences between the SDF (Drake's parser) and the URDF, over every SDF body:
     ``pose`` (metres + radians, relative to the first body), ``mass``, ``com``, ``inertia``.
     ``renamed``: SDF body/joint key -> URDF name where the test expects a renaming."""
     renamed = renamed or {}
-    a = Plant(path=sdf, model=model, model_paths=model_paths)
+    a = plant or Plant(path=sdf, model=model, model_paths=model_paths)
+    sdf_mimics = {}  # SDF 1.11 follower -> (leader, multiplier, offset, reference)
+    for joint in etree.parse(str(sdf)).getroot().iter("joint"):
+        mimic = joint.find("axis/mimic")
+        if mimic is not None and joint.get("name") in a.joints:
+            sdf_mimics[joint.get("name")] = (mimic.get("joint"), *(
+                float(mimic.findtext(tag, default)) for tag, default in
+                (("multiplier", "1"), ("offset", "0"), ("reference", "0"))))
     mimics = {}  # URDF follower -> (leader, multiplier, offset): Drake does not couple them
     for joint in etree.fromstring(urdf_text.encode()).iter("joint"):
         mimic = joint.find("mimic")
@@ -136,6 +187,9 @@ def compare(sdf: Path, urdf_text: str, configurations: int = 20, seed: int = 0,
                @ np.linalg.inv(ref_a) @ a.pose(body_a) for body_a, body_b in pairs]
     for index in range(configurations + 1):
         values = {} if index == 0 else {k: float(rng.uniform(-np.pi, np.pi)) for k in movable}
+        for follower, (leader, multiplier, offset, reference) in sdf_mimics.items():
+            if leader in values and follower in values:  # SDF: m (leader - reference) + offset
+                values[follower] = multiplier * (values[leader] - reference) + offset
         a.set(values)
         urdf_values = {movable[k]: v for k, v in values.items()}
         for follower, (leader, multiplier, offset) in mimics.items():

@@ -304,8 +304,8 @@ class Builder:
                 continue
             if start != WORLD and start in has_parent:  # grow from the world or an SDF root
                 group = self._group(start, edges)
-                roots = sorted((k for k in group if k not in has_parent), key=lambda k: (
-                    k != WORLD, k != canonical, position.get(k, -1)))
+                roots = sorted((k for k in group if k not in has_parent),
+                               key=lambda k: (k != canonical, position.get(k, -1)))
                 start = roots[0] if roots else start
             self.root_of[start] = start
             visited.add(start)
@@ -328,7 +328,8 @@ class Builder:
                 for j in edges.get(other, ()):
                     if id(j) not in decided:
                         heapq.heappush(heap, (j.child == other, index[id(j)], other, j))
-        kept = [j for j in joints if id(j) in decided and j not in cut]
+        cut_ids = {id(j) for j in cut}
+        kept = [j for j in joints if id(j) not in cut_ids]
         for joint in kept:
             if joint.reversed:
                 self.report_reversed(joint, tree_parent)
