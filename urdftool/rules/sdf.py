@@ -28,8 +28,11 @@ source_rule(
     doc="""SDFormat's meaning changed between versions: where a joint axis is expressed (1.4:
     the model frame; 1.5/1.6: the joint frame unless use_parent_model_frame; 1.7+:
     expressed_in), whether poses may name a frame (relative_to from 1.7), degrees and quaternions
-    (1.9). Without a known version the file cannot be read as its author meant. urdftool reads
-    1.4 to 1.11; older files are read as 1.4 (a warning), unknown ones as 1.11.""",
+    (1.9). Without a known version the file cannot be read as its author meant. libsdformat
+    (so Gazebo) refuses a file without a version or with one it cannot convert (2.0, 7.3),
+    converts 1.0 to 1.3 on loading, and reads up to its own newest version. urdftool reads 1.4
+    to 1.11; older files are read as 1.4 (a warning), unknown ones as 1.11 (an error: Gazebo
+    will not load them).""",
     bad='<sdf version="7.3"><model name="m">' + _BASE + "</model></sdf>",
     good=_model(_BASE),
 )

@@ -170,29 +170,37 @@ class Reader:
     def _version(self, root) -> tuple[int, int]:
         raw = root.get("version")
         if raw is None:
-            self.report("sdf.version", "<sdf> has no version attribute", root,
-                        hint='write <sdf version="1.11"> (or the version the file was written for); '
-                             "read with 1.11 rules")
+            self.report("sdf.version", "<sdf> has no version attribute: libsdformat cannot "
+                        "read the file (Gazebo does not load it); urdftool reads it with 1.11 rules",
+                        root, hint='write <sdf version="1.11"> (or the version the file was '
+                                   "written for)")
             return NEWEST
         match = _VERSION_RE.match(raw)
         if not match:
-            self.report("sdf.version", f"<sdf version=\"{raw}\"> is not an SDFormat version", root,
-                        hint="SDFormat versions are 1.4 to 1.11; read with 1.11 rules")
+            self.report("sdf.version", f"<sdf version=\"{raw}\"> is not an SDFormat version: "
+                        "libsdformat cannot convert it (Gazebo does not load the file); urdftool "
+                        "reads it with 1.11 rules", root,
+                        hint="SDFormat versions are 1.0 to 1.12 (1.4 or newer for new files)")
             return NEWEST
         version = (int(match.group(1)), int(match.group(2)))
         if version in SUPPORTED:
             return version
         if version in OLD:
-            self.report("sdf.version", f"SDFormat {raw} predates 1.4; read with 1.4 rules", root,
+            self.report("sdf.version", f"SDFormat {raw} predates 1.4: libsdformat converts it "
+                        "on loading (Gazebo loads it); urdftool reads it with 1.4 rules, which "
+                        "may differ", root,
                         hint='convert the file (gz sdf -p) and write version="1.4" or newer',
                         severity="warning")
             return (1, 4)
         if version[0] == 1 and version > NEWEST:
-            self.report("sdf.version", f"SDFormat {raw} is newer than urdftool knows (1.11); "
-                        "read with 1.11 rules", root, severity="warning")
+            self.report("sdf.version", f"SDFormat {raw} is newer than urdftool knows (1.11): "
+                        "read with 1.11 rules (a libsdformat older than the file refuses it)",
+                        root, severity="warning")
             return NEWEST
-        self.report("sdf.version", f"unknown SDFormat version \"{raw}\"", root,
-                    hint="SDFormat versions are 1.4 to 1.11; read with 1.11 rules")
+        self.report("sdf.version", f"unknown SDFormat version \"{raw}\": libsdformat cannot "
+                    "convert it (Gazebo does not load the file); urdftool reads it with 1.11 "
+                    "rules", root, hint="SDFormat versions are 1.0 to 1.12 (1.4 or newer for new "
+                                        "files)")
         return NEWEST
 
     # -- schema -----------------------------------------------------------------------------
