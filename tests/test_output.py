@@ -9,6 +9,7 @@ import collections
 import importlib.resources
 import io
 import json
+import random
 import subprocess
 import sys
 import unicodedata
@@ -433,3 +434,14 @@ def test_progress_only_on_a_terminal(monkeypatch):
         progress.update(5, 10)
         assert "checking" in terminal.getvalue() and "5/10" in terminal.getvalue()
     assert not Progress("checking", enabled=False).enabled
+
+
+def test_fuzz_oracle_judges_output():
+    """The fuzzer (urdftool.fuzz, which also mutates names into hostile ones) fails a case whose
+    human output a terminal or CI runner would obey."""
+    from urdftool import fuzz
+
+    assert fuzz.hijackable("├── base\\n::error::x (root)\n") is None
+    assert fuzz.hijackable("ok\n  ::error::x\n") and fuzz.hijackable("a ##[error]b")
+    assert fuzz.hijackable("a\x1b[31m") and fuzz.hijackable("a\u202eb")
+    assert fuzz.hostile_name('<link name="a"/>', random.Random(0)) != '<link name="a"/>'

@@ -155,9 +155,23 @@ def garble_expression(text, rng):
     return text[:at] + rng.choice(EXPRESSIONS) + text[at:]
 
 
+# what a name may carry to hijack a terminal or a CI log (issue 12): entity-encoded line breaks
+# before workflow commands, the legacy ##[ form, a C1 CSI, bidi overrides, rich markup
+HOSTILE = ("&#10;::error::fuzz", "&#13;::stop-commands::tok", "&#x85;::warning::nel",
+           "##[error]legacy", "&#x9B;31m", "&#x202E;&#x2066;", "[/]:smile:", "&#x2028;::x")
+
+
+def hostile_name(text, rng):
+    names = list(re.finditer(r'(?:name|link|joint)="[^"]*', text))
+    if not names:
+        return text
+    at = rng.choice(names).end()
+    return text[:at] + rng.choice(HOSTILE) + text[at:]
+
+
 MUTATIONS = [delete_span, duplicate_span, swap_spans, truncate, break_tag, insert_attribute,
              replace_number, deep_nesting, insert_junk, duplicate_element, swap_names,
-             garble_expression]
+             garble_expression, hostile_name]
 
 
 def mutate(text: str, rng: random.Random, count: int | None = None) -> tuple[str, list[str]]:
@@ -317,6 +331,24 @@ def judge(args: list[str], code: int, out: str, err: str) -> str | None:
                     return f"{diagnostic['rule']}: {diagnostic['message']}"
     elif "internal error" in out:
         return "internal error in the output"
+    if "--format" not in args:  # human output: file content escaped, nothing a CI runner runs
+        return hijackable(out + err)
+    return None
+
+
+def hijackable(text: str) -> str | None:
+    """What in human-readable output a terminal or a CI runner would obey, or None: a raw
+    control or format character, a line starting with '::' (GitHub Actions), '##[' anywhere."""
+    import unicodedata
+
+    raw = sorted({f"U+{ord(c):04X}" for c in text if c != "\n"
+                  and unicodedata.category(c) in ("Cc", "Cf", "Zl", "Zp")})
+    if raw:
+        return f"raw control characters in the output: {', '.join(raw)}"
+    if "##[" in text:
+        return "'##[' (a CI runner command) in the output"
+    if any(line.lstrip().startswith("::") for line in text.split("\n")):
+        return "a line starting with '::' (a GitHub Actions command) in the output"
     return None
 
 
