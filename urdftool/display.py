@@ -52,11 +52,7 @@ def clean(value, newlines: bool = False) -> str:
         keep = "\r\n" if newlines else ""
         text = "".join(_escape(c) if c not in keep and unicodedata.category(c) in _UNSAFE else c
                        for c in text)
-    if "#" in text:
-        text = _LEGACY.sub(r"\\x23", text)
-    if ":" in text:
-        text = _LINE_START.sub(r"\1\\x3a", text)
-    return text
+    return guard(text)
 
 
 def guard(text: str) -> str:

@@ -173,7 +173,7 @@ def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | Non
         advice = f"cannot read a robot; run 'urdftool check {path}'"
         if not source.problems:
             raise ToolError(diagnostic_line(path, None, None, "error", None,
-                                               f"no <robot> with links in it: {advice}"))
+                                            f"no <robot> with links in it: {advice}"))
         rule, first = source.problems[0]
         loc = first.loc
         raise ToolError(diagnostic_line(
@@ -182,17 +182,16 @@ def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | Non
     return robot
 
 
-def stdout_console(err: bool = False):
-    """The rich console of human output (stdout, or stderr with ``err``). On a terminal: its
-    width and colours. Otherwise (a pipe, a file, a CI log): nothing wrapped or cut, no colour.
-    Never interprets emoji codes; every line goes through ``display.guard``. Put file content
-    in markup with ``shown(value)``."""
+def stdout_console():
+    """The rich console of human output (stdout). On a terminal: its width and colours.
+    Otherwise (a pipe, a file, a CI log): nothing wrapped or cut, no colour. Never interprets
+    emoji codes; every line goes through ``display.guard``. Put file content in markup with
+    ``shown(value)``."""
     from rich.console import Console
 
     from urdftool.display import GuardedStream
 
-    stream = sys.stderr if err else sys.stdout
-    console = Console(file=GuardedStream(stream), highlight=False, emoji=False)
+    console = Console(file=GuardedStream(sys.stdout), highlight=False, emoji=False)
     if not console.is_terminal:
         console.width = 1_000_000  # no wrapping, no cropping: each row on one line
     return console
