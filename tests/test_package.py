@@ -283,3 +283,24 @@ def test_changed_mode_checks_only_what_reads_the_files_once_it_knows(demo, monke
     assert sorted(checked) == ["other.urdf.xacro", "robot.urdf.xacro"]
     assert [f["path"] for f in report["files"]] == ["urdf/other.urdf.xacro",
                                                      "urdf/robot.urdf.xacro"]
+
+
+def test_a_fragment_read_by_several_entries_reports_once(tmp_path, monkeypatch):
+    root = tmp_path / "realsense2_description"
+    shutil.copytree(PACKAGES / "realsense2_description", root)
+    monkeypatch.chdir(root)
+    _, report, _ = check(".")
+    [missing] = [d for d in findings(report)
+                 if d["rule"] == "mesh.not-found" and d["path"] == "urdf/_d435.urdf.xacro"]
+    # the d435 macro is called by three entries (once, twice, and through the d435i macro)
+    calls = {name: (root / "urdf" / name).read_text().count("<xacro:sensor_d435 ")
+             for name in ("test_d435_camera.urdf.xacro", "test_d435_multiple_cameras.urdf.xacro",
+                          "_d435i.urdf.xacro")}
+    assert calls == {"test_d435_camera.urdf.xacro": 1,
+                     "test_d435_multiple_cameras.urdf.xacro": 2, "_d435i.urdf.xacro": 1}
+    assert missing["instances"] == 4
+    outermost = sorted(chain[-1].rsplit(":", 1)[0] for chain in missing["call_sites"])
+    assert outermost == sorted(["urdf/test_d435_camera.urdf.xacro",
+                                "urdf/test_d435i_camera.urdf.xacro",
+                                "urdf/test_d435_multiple_cameras.urdf.xacro",
+                                "urdf/test_d435_multiple_cameras.urdf.xacro"])
