@@ -160,7 +160,7 @@ def test_pitch_just_below_gimbal_lock_round_trips(tmp_path):
     assert report["pose"] < 1e-12 and report["com"] < 1e-12, report
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=25, deadline=None)
 @given(st.lists(st.tuples(
     st.tuples(*[st.floats(-2, 2)] * 3),
     st.floats(-math.pi, math.pi),
@@ -388,3 +388,20 @@ def test_corpus_matches_drake(path, model, tmp_path):
             child = joint.find("child").get("link")
             key = next(k for k in sdf_plant.bodies if k.replace("::", "__") == child)
             assert sdf_plant.bodies[key].is_floating(), child
+
+
+@pytest.mark.parametrize("version", ["1.6", "1.7"])
+def test_two_links_of_one_name_are_refused_and_one_is_written(tmp_path, version):
+    """Two links (or two joints) of one name: libsdformat refuses the model in every version
+    and keeps the first; the URDF must not hold two links of one name either."""
+    text = sdf(link("base") + link("arm", "1 0 0 0 0 0") + link("arm", "2 0 0 0 0 0")
+               + joint("j", "base", "arm") + joint("j", "base", "arm", "prismatic"),
+               version=version)
+    path, urdf, result = convert(tmp_path, text)
+    assert result.code == 1
+    assert result.err.count(" error sdf.duplicate-name: ") == 2
+    with pytest.raises(RuntimeError, match=r"Non-unique name\[arm\]"):
+        Plant(path=path)
+    root = etree.fromstring(urdf.encode())
+    assert [l.get("name") for l in root.iter("link")] == ["base", "arm"]
+    assert [(j.get("name"), j.get("type")) for j in root.iter("joint")] == [("j", "revolute")]

@@ -91,8 +91,10 @@ class Builder:
         self.top = top
         self.options = options
         self.graph = PoseGraph(top, reader)
-        self.links: list[Entity] = [e for s in top.walk() for e in s.links]
-        self.frames: list[Entity] = [e for s in top.walk() for e in s.frames]
+        # an element whose name an earlier one took (sdf.duplicate-name) is left out, as
+        # libsdformat leaves it out: a URDF cannot hold two links or joints of one name
+        self.links: list[Entity] = [e for s in top.walk() for e in s.links if self.named(e)]
+        self.frames: list[Entity] = [e for s in top.walk() for e in s.frames if self.named(e)]
         self.link_keys = {e.key for e in self.links}
         self.names: dict[str, str] = {}  # scoped key -> URDF link name
         self.joint_names: dict[str, str] = {}
@@ -103,6 +105,10 @@ class Builder:
         self.materials: dict[tuple, str] = {}
         self.material_elements: list = []
         self.unlimited: list[tuple[str, object]] = []
+
+    def named(self, entity: Entity) -> bool:
+        node = self.graph.nodes.get(entity.key)
+        return node is not None and node.entity is entity
 
     # -- helpers ----------------------------------------------------------------------------
 
@@ -192,7 +198,7 @@ class Builder:
     def read_joints(self) -> list[JointInfo]:
         result = []
         for scope in self.top.walk():
-            for entity in scope.joints:
+            for entity in filter(self.named, scope.joints):
                 info = self.read_joint(entity)
                 if info is not None:
                     result.append(info)
