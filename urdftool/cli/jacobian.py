@@ -39,10 +39,15 @@ def _outside_limits(chain, q) -> list[str]:
 
 
 def _warnings(chain, q, analysis, q_text) -> list[str]:
+    from urdftool.kinematics.jacobian import outside_limits
+
     warnings = []
     if q_text is None and (outside := _outside_limits(chain, q)):
         warnings.append(f"q = 0 lies outside the limits of {', '.join(outside)}; "
                         "use --q mid or give values")
+    elif q_text is not None:  # computed all the same: the Jacobian is defined there
+        warnings.extend(f"--q: {text}; the Jacobian is computed there all the same"
+                        for text in outside_limits(chain, q))
     for item in analysis:
         if item.near_singular:
             what = "the Jacobian" if item.rows == "full" else "its position rows (vx vy vz)"

@@ -141,21 +141,25 @@ def _fmt(value: float | None) -> str:
     return "-inf" if value is None else f"{value:g}"
 
 
-def check_limits(chain: Chain, q: np.ndarray, tolerance: float = 1e-12) -> None:
+def outside_limits(chain: Chain, q: np.ndarray, tolerance: float = 1e-12) -> list[str]:
+    """The variables of ``q`` outside their joint limits, as "name = value outside [lo, hi]
+    unit" (the Jacobian is defined there all the same: callers warn, not refuse)."""
+    found = []
     for variable, value in zip(chain.variables, q):
         if variable.type == "continuous" or variable.lower is None or variable.upper is None:
             continue
         if not variable.lower - tolerance <= value <= variable.upper + tolerance:
             unit = "rad" if variable.revolute else "m"
-            raise ToolError(f"--q: joint '{variable.name}' = {value:g} is outside its limits "
-                            f"[{_fmt(variable.lower)}, {_fmt(variable.upper)}] {unit}")
+            found.append(f"joint '{variable.name}' = {value:g} is outside its limits "
+                         f"[{_fmt(variable.lower)}, {_fmt(variable.upper)}] {unit}")
+    return found
 
 
 def parse_q(chain: Chain, text: str | None) -> np.ndarray:
     """The configuration named by ``--q``: comma-separated values for the chain's variables in
     order, or ``name=value`` pairs (others 0), optionally after ``mid`` or ``zero``; ``None``
-    means zero. Raises ToolError for a wrong count, an unknown name, or a value outside the
-    limits."""
+    means zero. Raises ToolError for a wrong count or an unknown name; values outside the
+    limits are kept (``outside_limits`` names them)."""
     names = chain.variable_names
     q = np.zeros(chain.n)
     if text is None:
@@ -188,5 +192,4 @@ def parse_q(chain: Chain, text: str | None) -> np.ndarray:
                             f"{chain.n} joint variable{'s' if chain.n != 1 else ''} "
                             f"({', '.join(names)})")
         q = np.array([parse_number(item) for item in items])
-    check_limits(chain, q)
     return q
