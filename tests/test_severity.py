@@ -140,3 +140,15 @@ def test_massless_link_between_joints_is_dropped_by_gazebo(write):
     (rule, severity, message), = findings(write, gazebo)
     assert (rule, severity) == ("inertia.massless-moving-link", "warning")
     assert "Gazebo's URDF reader drops it" in message and "(1 kg)" in message
+
+
+def test_inertia_on_a_massless_static_root_is_a_warning(write):
+    # pybullet_data writes static objects as mass 0 with a placeholder tensor: PyBullet keeps
+    # them static and the tensor never acts; on a fixed link of a body with mass it does
+    table = ('<robot name="t"><link name="top"><inertial><mass value="0"/><inertia ixx="1" '
+             'ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link></robot>')
+    assert [(r, s) for r, s, _ in findings(write, table)] == [
+        ("inertia.mass-not-positive", "warning")]
+    flange = robot_text().replace('<mass value="0.03"/>', '<mass value="0"/>')
+    assert ("inertia.mass-not-positive", "error") in [
+        (r, s) for r, s, _ in findings(write, flange)]

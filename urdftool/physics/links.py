@@ -609,6 +609,13 @@ class RigidBodies:
                 change = max(change, abs(a - b) / b)
         return TensorEffect(with_tensor, without, change)
 
+    def is_static_root(self, name: str) -> bool:
+        """The link belongs to the root's rigid body and nothing in that body has mass:
+        PyBullet keeps such a body static (pybullet_data's tables and fixed bases)."""
+        root = self.body_root(name)
+        return root not in self.parent and not any(
+            self.mass.get(n, 0.0) for n in self._descendants(root, True))
+
     def is_free_massless_base(self, name: str) -> bool:
         """A root link whose rigid body (it and what is fixed to it) has no mass, while joints
         move somewhere below it."""

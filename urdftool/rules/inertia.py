@@ -105,6 +105,10 @@ def _centroid_hint(a) -> str:
   robot has moving joints: as a free body it has no dynamics. PyBullet silently makes such
   a base static, Gazebo and Drake refuse it.
 
+Moments on a massless root body (nothing fixed to it has mass) are a warning: PyBullet keeps
+such a body static (mass 0 is how pybullet_data writes tables and fixed bases), so they never
+act.
+
 Mass 0 with zero inertia on a link fixed to a body that has mass (a frame like `tool0` or
 `base_footprint`) is a deliberate massless frame and is fine. A robot meant to be bolted to
 the ground says so with a `world` link and a fixed joint.""",
@@ -134,10 +138,15 @@ def mass_not_positive(robot):
         tensor = inertial.tensor
         largest = max((abs(v) for row in tensor for v in row), default=0.0) if tensor else 0.0
         if largest > 0:
+            static = link.name is not None and bodies.is_static_root(link.name)
             yield Finding(f"link '{link.name}': mass 0 but moments of inertia up to "
                           f"{largest:g} kg·m²; a body without mass has no inertia "
-                          "(a moment is at most m·r²)", _mass_loc(link),
-                          hint="give the mass, or set the inertia to 0 for a massless frame")
+                          "(a moment is at most m·r²)"
+                          + ("; its body is a root without mass, which PyBullet keeps static "
+                             "(the usual way to write a fixed object), so the inertia never "
+                             "acts" if static else ""), _mass_loc(link),
+                          hint="give the mass, or set the inertia to 0 for a massless frame",
+                          severity="warning" if static else None)
         elif bodies.is_free_massless_base(link.name):
             yield Finding(f"link '{link.name}' is the base, has mass 0 and nothing fixed to it "
                           "has mass, while joints move below it: a free body without mass has "
