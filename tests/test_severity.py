@@ -5,7 +5,6 @@ lumps fixed links into their parent joint's body the same way."""
 
 from __future__ import annotations
 
-
 import pytest
 
 from urdftool.check import CheckOptions, check_file
@@ -44,8 +43,8 @@ def findings(write, text, select=("inertia",)):
 
 def test_merged_body_matches_pinocchio(write):
     pin = pytest.importorskip("pinocchio")
-    from urdftool.source import load
     from urdftool.model import build_robot
+    from urdftool.source import load
 
     path = write(robot_text(moment="0.0001"))
     model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
@@ -116,9 +115,9 @@ KINEMATIC = """<robot name="arm">
 def test_kinematics_only_robot_is_one_finding(write):
     assert findings(write, KINEMATIC.format(extra="")) == [
         ("inertia.kinematics-only", "warning",
-         "robot 'arm': no link has an <inertial> (4 links, 2 moving joints): kinematics only, "
-         "it cannot be simulated as is (PyBullet gives every link 1 kg, Gazebo drops every "
-         "moving link)")]
+         ("robot 'arm': no link has an <inertial> (4 links, 2 moving joints): kinematics only, "
+          "it cannot be simulated as is (PyBullet gives every link 1 kg, Gazebo drops every "
+          "moving link)"))]
     # one link with an inertial: the others are reported one by one again
     one = KINEMATIC.replace('<link name="a"/>', '<link name="a"><inertial><mass value="1"/>'
                             '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>'

@@ -241,7 +241,7 @@ class _LibraryLog:
         import logging
 
         class Keep(logging.Handler):
-            def emit(handler, record):  # noqa: N805 - the handler, not this object
+            def emit(handler, record):  # "handler": self is the _LibraryLog
                 try:
                     self.messages.append(_one_line(record.getMessage()))
                 except Exception:  # noqa: BLE001 - a message that cannot be formatted
