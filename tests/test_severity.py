@@ -151,3 +151,11 @@ def test_inertia_on_a_massless_static_root_is_a_warning(write):
     flange = robot_text().replace('<mass value="0.03"/>', '<mass value="0"/>')
     assert ("inertia.mass-not-positive", "error") in [
         (r, s) for r, s, _ in findings(write, flange)]
+    # a base with a negative mass is no static massless body: the error stands
+    negative = ('<robot name="t"><link name="base"><inertial><mass value="-1"/><inertia ixx="1" '
+                'ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link><joint name="j" '
+                'type="fixed"><parent link="base"/><child link="cam"/></joint><link name="cam">'
+                '<inertial><mass value="0"/><inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" '
+                'iyz="0" izz="1e-3"/></inertial></link></robot>')
+    assert ("inertia.mass-not-positive", "error") in [
+        (r, s) for r, s, m in findings(write, negative) if "'cam'" in m]

@@ -613,8 +613,14 @@ class RigidBodies:
         """The link belongs to the root's rigid body and nothing in that body has mass:
         PyBullet keeps such a body static (pybullet_data's tables and fixed bases)."""
         root = self.body_root(name)
-        return root not in self.parent and not any(
-            self.mass.get(n, 0.0) for n in self._descendants(root, True))
+        if root in self.parent:
+            return False
+        for member in self._descendants(root, True):
+            link = self.robot.link(member)
+            inertial = link.inertial if link is not None else None
+            if inertial is not None and inertial.mass != 0:  # mass, a negative or unread one
+                return False
+        return True
 
     def is_free_massless_base(self, name: str) -> bool:
         """A root link whose rigid body (it and what is fixed to it) has no mass, while joints
