@@ -1,9 +1,10 @@
 """Drake as the independent oracle for `urdftool convert`: the SDF is loaded by Drake's own
 SDFormat parser (libsdformat inside), the converted URDF by Drake's URDF parser, and every SDF
-body is compared in the two plants: its world pose relative to a reference body: its mass, COM and inertia about the COM (in the reference body's frame) at the default
-configuration and at random joint configurations, and its pose relative to the reference body at
-those configurations (a URDF link frame may sit at the joint: the constant offset is taken at the
-default configuration). Nothing here calls urdftool's maths.
+body is compared in the two plants: its mass, COM and inertia about the COM (in the frame of the
+reference body, the URDF root) at the default configuration and at random joint
+configurations, and its pose relative to the reference body at those configurations (a URDF link
+frame may sit at its joint: that constant offset is taken at the default configuration).
+Nothing here calls urdftool's maths.
 
 Joint values are set by joint name: a 1-DOF SDF joint and the URDF joint of the same name take the
 same value (a joint urdftool reverses keeps the sense of +q, so the same value). Multi-DOF SDF
@@ -139,7 +140,8 @@ def compare(sdf: Path, urdf_text: str, configurations: int = 20, seed: int = 0,
             renamed: dict[str, str] | None = None, model: str | None = None,
             model_paths: tuple[Path, ...] = (), plant: Plant | None = None) -> dict[str, float]:
     """Largest differences between the SDF (Drake's parser) and the URDF, over every SDF body:
-    ``pose`` (metres + radians, relative to the first body), ``mass``, ``com``, ``inertia``.
+    ``pose`` (largest entry of the difference of the 4x4 poses relative to the reference body),
+    ``mass``, ``com``, ``inertia``; with ``configurations``, ``bodies`` and ``moved_joints``.
     ``renamed``: SDF body/joint key -> URDF name where the test expects a renaming."""
     renamed = renamed or {}
     a = plant or Plant(path=sdf, model=model, model_paths=model_paths)
