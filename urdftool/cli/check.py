@@ -73,7 +73,7 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, out
     """
     from urdftool import cache
     from urdftool.check import CheckOptions
-    from urdftool.config import load_config
+    from urdftool.config import check_rule_ids, load_config
     from urdftool.errors import ToolError
 
     cache.ENABLED = not no_cache
@@ -84,8 +84,6 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, out
 
     def split(values):
         return [part.strip() for value in values for part in value.split(",") if part.strip()]
-
-    from urdftool.config import check_rule_ids
 
     check_rule_ids(split(select), "--select")
     check_rule_ids(split(ignore), "--ignore")
