@@ -349,7 +349,8 @@ class Builder:
                         f"joint '{joint.entity.name}' closes the kinematic loop {loop}; URDF is "
                         "a tree, so it is cut (both its links are already attached through the "
                         "other joints of the loop, so every link stays attached) and the loop is "
-                        "left open", joint.entity.element,
+                        "left open (Gazebo simulates the closed loop; URDF tools see the open "
+                        "chain)", joint.entity.element,
                         hint="close the loop in the simulator (e.g. a joint constraint plugin "
                              "between the two links)")
         self.tree_parent = tree_parent
