@@ -159,3 +159,10 @@ def test_inertia_on_a_massless_static_root_is_a_warning(write):
                 'iyz="0" izz="1e-3"/></inertial></link></robot>')
     assert ("inertia.mass-not-positive", "error") in [
         (r, s) for r, s, m in findings(write, negative) if "'cam'" in m]
+
+
+@pytest.mark.parametrize("rpy", ["inf 0 0", "nan 0 0", "1e308 0 0"])
+def test_merged_body_of_unusable_poses_is_no_verdict_and_no_crash(write, rpy):
+    text = robot_text().replace('<origin xyz="-0.1 0 0.15" rpy="0.4 0 0"/>',
+                                f'<origin xyz="-0.1 0 0.15" rpy="{rpy}"/>')
+    assert "inertia.exceeds-geometry" in [r for r, _, _ in findings(write, text)]

@@ -593,8 +593,11 @@ class RigidBodies:
         moves). The other ``suspects`` (impossible tensors) are point masses in both, so that
         one placeholder does not hide another. None when the link is a body on its own."""
         others = set(suspects) - {name}
-        with_tensor = self.merged(name, others)
-        without = self.merged(name, others | {name})
+        try:
+            with_tensor = self.merged(name, others)
+            without = self.merged(name, others | {name})
+        except (ArithmeticError, ValueError):  # an infinite angle (math.cos): no verdict
+            return None
         if with_tensor is None or without is None:
             return None
         if with_tensor.root == "world" and with_tensor.root not in self.parent:
