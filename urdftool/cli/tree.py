@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
+import json
+
 import click
 
 from urdftool.cli import (
     format_option,
     load_robot,
     package_option,
-    print_json,
-    shown,
     split_args,
     stdout_console,
     untrusted_options,
@@ -17,20 +17,39 @@ from urdftool.cli import (
 
 
 def tree_data(robot) -> dict:
-    """Nested {link, joint, type, children} from each root link."""
+    """Nested {link, joint, type, children} from each root link. Iterative (a chain of any
+    depth); a link already on the path from its root is listed, not expanded again."""
 
-    def node(link: str, joint=None, seen=frozenset()) -> dict:
-        children = [] if link in seen else [
-            node(j.child, j, seen | {link}) for j in robot.child_joints(link) if j.child]
-        entry = {"link": link, "children": children}
+    def entry(link: str, joint=None) -> dict:
+        node = {"link": link, "children": []}
         if joint is not None:
-            entry["joint"] = joint.name
-            entry["type"] = joint.type
+            node["joint"] = joint.name
+            node["type"] = joint.type
             if joint.mimic is not None:
-                entry["mimic"] = joint.mimic.joint
-        return entry
+                node["mimic"] = joint.mimic.joint
+        return node
 
-    return {"robot": robot.name, "roots": [node(root) for root in robot.roots()]}
+    roots = []
+    for root in robot.roots():
+        top = entry(root)
+        roots.append(top)
+        on_path = {root}
+        # (node, its link, the child joints left to expand); a link leaves the path when its
+        # children are done
+        stack = [(top, root, iter(robot.child_joints(root)))]
+        while stack:
+            node, link, joints = stack[-1]
+            joint = next((j for j in joints if j.child), None)
+            if joint is None:
+                stack.pop()
+                on_path.discard(link)
+                continue
+            child = entry(joint.child, joint)
+            node["children"].append(child)
+            if joint.child not in on_path:
+                on_path.add(joint.child)
+                stack.append((child, joint.child, iter(robot.child_joints(joint.child))))
+    return {"robot": robot.name, "roots": roots}
 
 
 @click.command("tree")
@@ -48,22 +67,107 @@ def command(inputs, fmt, packages):
     robot = load_robot(paths[0], packages, xacro_args)
     data = tree_data(robot)
     if fmt == "json":
-        print_json(data)
+        from urdftool.display import json_safe
+
+        click.echo(json_safe(dumps(data)))
         return
-    from rich.tree import Tree
+    _print_tree(robot, data)
 
+
+# nesting deeper than this is not indented further (a chain of n links would otherwise print
+# O(n^2) characters); the depth is then written on the line
+MAX_INDENT = 40
+
+
+def dumps(value) -> str:
+    """``json.dumps(value, indent=2)`` without recursion (a 50k-link chain nests 100k deep),
+    and with the indentation stopping at ``MAX_INDENT`` levels of the tree (still JSON)."""
+    from json.encoder import encode_basestring_ascii
+
+    parts: list[str] = []
+    end = object()
+    stack: list[list] = []  # [items, depth, closer, first, is_dict]
+
+    def put(item, depth: int) -> None:
+        if isinstance(item, dict) and item:
+            parts.append("{")
+            stack.append([iter(item.items()), depth + 1, "}", True, True])
+        elif isinstance(item, list) and item:
+            parts.append("[")
+            stack.append([iter(item), depth + 1, "]", True, False])
+        elif isinstance(item, str):
+            parts.append(encode_basestring_ascii(item))
+        else:
+            parts.append(json.dumps(item))
+
+    def pad(depth: int) -> str:
+        return "\n" + "  " * min(depth, 2 * MAX_INDENT + 2)
+
+    put(value, 0)
+    while stack:
+        frame = stack[-1]
+        item = next(frame[0], end)
+        if item is end:
+            stack.pop()
+            parts.append(pad(frame[1] - 1) + frame[2])
+            continue
+        parts.append(pad(frame[1]) if frame[3] else "," + pad(frame[1]))
+        frame[3] = False
+        if frame[4]:
+            key, item = item
+            parts.append(encode_basestring_ascii(key) + ": ")
+        put(item, frame[1])
+    return "".join(parts)
+
+
+def _print_tree(robot, data: dict) -> None:
+    """The tree drawn as rich's ``Tree`` draws it (same guides and styles), line by line
+    without recursion; below ``MAX_INDENT`` levels the guides stop growing and the line says
+    its depth."""
+    from rich.text import Text
+
+    from urdftool.display import clean
+
+    console = stdout_console()
+    ascii_only = not console.encoding.lower().startswith("utf")
+    fork, last, bar, space = ("+-- ", "`-- ", "|   ", "    ") if ascii_only else \
+        ("\u251c\u2500\u2500 ", "\u2514\u2500\u2500 ", "\u2502   ", "    ")
     moving = sum(1 for j in robot.joints if j.moving)
-    top = Tree(f"[bold]{shown(robot.name)}[/]: {len(robot.links)} links, {len(robot.joints)} "
-               f"joints ({moving} moving)")
+    text = Text()
+    text.append(clean("" if robot.name is None else robot.name), "bold")
+    text.append(f": {len(robot.links)} links, {len(robot.joints)} joints ({moving} moving)")
+    guides: list[str] = []  # the prefix of the current depth's children
+    stack = [_with_more(data["roots"])]  # per depth: (node, whether a sibling follows it)
+    while stack:
+        item = next(stack[-1], None)
+        if item is None:
+            stack.pop()
+            if guides:
+                guides.pop()
+            continue
+        node, more = item
+        depth = len(stack) - 1
+        text.append("\n")
+        text.append("".join(guides[-MAX_INDENT:]) + (fork if more else last))
+        if depth > MAX_INDENT:
+            text.append(f"[depth {depth}] ", "dim")
+        if "joint" in node:
+            text.append(clean(node["link"]), "cyan")
+            text.append(" ")
+            label = f"via {clean(str(node['joint']))} ({clean(str(node['type']))})"
+            if "mimic" in node:
+                label += f", mimics {clean(str(node['mimic']))}"
+            text.append(label, "dim")
+        else:
+            text.append(clean(node["link"]), "bold cyan")
+            text.append(" ")
+            text.append("(root)", "dim")
+        if node["children"]:
+            guides.append(bar if more else space)
+            stack.append(_with_more(node["children"]))
+    console.print(text)
 
-    def add(branch, entry):
-        for child in entry["children"]:
-            label = (f"[cyan]{shown(child['link'])}[/] [dim]via {shown(child['joint'])} "
-                     f"({shown(child['type'])})")
-            if "mimic" in child:
-                label += f", mimics {shown(child['mimic'])}"
-            add(branch.add(label + "[/]"), child)
 
-    for root in data["roots"]:
-        add(top.add(f"[bold cyan]{shown(root['link'])}[/] [dim](root)[/]"), root)
-    stdout_console().print(top)
+def _with_more(nodes: list):
+    """(node, whether a sibling follows it) for each node."""
+    return ((node, i < len(nodes) - 1) for i, node in enumerate(nodes))

@@ -273,6 +273,7 @@ def extract_chain(robot, base: str | None = None, tip: str | None = None) -> Cha
     joints: list[ChainJoint] = []
     pending = np.eye(4)
     folded: list[str] = []
+    on_path = {id(joint) for joint in path}
     for joint in path:
         pending = pending @ pose_matrix(joint.origin)
         if joint.type == "fixed":
@@ -283,7 +284,7 @@ def extract_chain(robot, base: str | None = None, tip: str | None = None) -> Cha
             lower, upper = _limits(leader)
             index[leader.name] = len(variables)
             variables.append(Variable(str(leader.name), str(leader.type), lower, upper,
-                                      in_chain=any(j is leader for j in path)))
+                                      in_chain=id(leader) in on_path))
         joints.append(ChainJoint(str(joint.name), str(joint.type), str(joint.child), pending,
                                  _axis(joint), index[leader.name], multiplier, offset,
                                  tuple(folded), leader=str(leader.name)))

@@ -27,7 +27,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from urdftool.kinematics.chain import Chain
-from urdftool.kinematics.fk import forward
 
 PARALLEL_TOLERANCE = 1e-8  # |z_a x z_b| below this: parallel (sqrt of the float epsilon)
 NEARLY_PARALLEL = 1e-4  # below this (and above the tolerance): exact but ill-conditioned
@@ -302,11 +301,52 @@ def extract_dh(chain: Chain, convention: str = "standard") -> DHResult:
 def self_check(chain: Chain, result: DHResult, count: int = 100, seed: int = 0) -> float:
     """The largest difference (any entry of the 4x4 pose: metres or rotation-matrix units)
     between the DH product and the URDF's forward kinematics, over ``count`` random
-    configurations within the limits (and the zero configuration)."""
+    configurations within the limits (and the zero configuration). All configurations advance
+    together joint by joint (one pass over a chain of any length)."""
     rng = np.random.default_rng(seed)
     samples = np.vstack([np.zeros((1, chain.n)), chain.sample(rng, count)])
-    worst = 0.0
-    for q in samples:
-        worst = max(worst, float(np.max(np.abs(
-            result.forward(chain.joint_values(q)) - forward(chain, q)))))
-    return worst
+    size = len(samples)
+    urdf = np.broadcast_to(np.eye(4), (size, 4, 4)).copy()
+    dh = np.broadcast_to(result.base, (size, 4, 4)).copy()
+    for joint, row in zip(chain.joints, result.rows):
+        values = joint.multiplier * samples[:, joint.variable] + joint.offset
+        urdf = urdf @ joint.origin @ _joint_motions(joint.revolute, joint.axis, values)
+        if row.revolute:
+            theta, d = row.theta + values, np.full(size, row.d)
+        else:
+            theta, d = np.full(size, row.theta), row.d + values
+        dh = dh @ _dh_matrices(result.convention, theta, d, row.a, row.alpha)
+    return float(np.max(np.abs(dh @ result.tool - urdf @ chain.tool)))
+
+
+def _joint_motions(revolute: bool, axis: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """``fk.joint_motion`` at each of ``values``: (len(values), 4, 4)."""
+    out = np.broadcast_to(np.eye(4), (len(values), 4, 4)).copy()
+    if not revolute:
+        out[:, :3, 3] = np.outer(values, axis)
+        return out
+    x, y, z = axis
+    c, s = np.cos(values), np.sin(values)
+    v = 1.0 - c
+    out[:, 0, 0], out[:, 0, 1], out[:, 0, 2] = c + x * x * v, x * y * v - z * s, x * z * v + y * s
+    out[:, 1, 0], out[:, 1, 1], out[:, 1, 2] = y * x * v + z * s, c + y * y * v, y * z * v - x * s
+    out[:, 2, 0], out[:, 2, 1], out[:, 2, 2] = z * x * v - y * s, z * y * v + x * s, c + z * z * v
+    return out
+
+
+def _dh_matrices(convention: str, theta: np.ndarray, d: np.ndarray, a: float,
+                 alpha: float) -> np.ndarray:
+    """``dh_matrix`` at each (theta, d), multiplied out: (len(theta), 4, 4)."""
+    ct, st = np.cos(theta), np.sin(theta)
+    ca, sa = math.cos(alpha), math.sin(alpha)
+    out = np.zeros((len(theta), 4, 4))
+    out[:, 3, 3] = 1.0
+    if convention == "standard":  # Rz(theta) Tz(d) Tx(a) Rx(alpha)
+        out[:, 0] = np.stack([ct, -st * ca, st * sa, a * ct], axis=1)
+        out[:, 1] = np.stack([st, ct * ca, -ct * sa, a * st], axis=1)
+        out[:, 2, 1], out[:, 2, 2], out[:, 2, 3] = sa, ca, d
+    else:  # Rx(alpha) Tx(a) Rz(theta) Tz(d)
+        out[:, 0, 0], out[:, 0, 1], out[:, 0, 3] = ct, -st, a
+        out[:, 1] = np.stack([st * ca, ct * ca, np.full_like(ct, -sa), -sa * d], axis=1)
+        out[:, 2] = np.stack([st * sa, ct * sa, np.full_like(ct, ca), ca * d], axis=1)
+    return out
