@@ -4,7 +4,8 @@ two versions of the code byte for byte (a speed-up must not change a report).
     python benchmarks/snapshot_reports.py OUT.json [--commands]
 
 `check --format json --jobs 1` over robots/ and every pybullet_data (random_urdfs included) and
-example-robot-data URDF; with --commands also `tree`, `limits`, `inertia` (--format json) per
+example-robot-data URDF, without the mesh cache, then filling an empty one and reading it (the
+three must agree); with --commands also `tree`, `limits`, `inertia` (--format json) per
 file. Run from the checkout whose code is to be recorded (PYTHONPATH=that checkout)."""
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from __future__ import annotations
 import json
 import os
 import sys
+import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -37,6 +39,12 @@ def main() -> None:
     for name, files in (("robots", robots), ("corpus", corpus)):
         result = run_urdftool("check", "--format", "json", "--jobs", "1", "--no-cache", *files)
         snapshot[f"check {name}"] = [result.code, result.out]
+        with tempfile.TemporaryDirectory() as cache:
+            os.environ["URDFTOOL_CACHE_DIR"] = cache
+            for run in ("cold", "warm"):
+                again = run_urdftool("check", "--format", "json", "--jobs", "1", *files)
+                if again.out != result.out:
+                    print(f"check {name}: the report with a {run} cache differs")
     if "--commands" in sys.argv:
         for path in robots + [p for p in corpus if "random_urdfs" not in p]:
             for command in ("tree", "limits", "inertia"):

@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import json
 import os
+import sys
+from array import array
 from pathlib import Path
 
 from urdftool import __version__
@@ -63,9 +65,8 @@ def _entry(kind: str, key: dict) -> Path:
 
 
 def read(kind: str, key: dict):
-    """(header dict, 1-D float64 array) stored for ``key``, or None (absent, stale, corrupt)."""
-    import numpy as np
-
+    """(header dict, ``array("d")`` of the values) stored for ``key``, or None (absent, stale,
+    corrupt). Read with the standard library: a warm run imports no numpy."""
     try:
         with open(_entry(kind, key), "rb") as handle:
             data = handle.read()
@@ -78,28 +79,39 @@ def read(kind: str, key: dict):
         if not isinstance(header, dict) or type(count) is not int \
                 or len(data) - end - 1 != 8 * count:
             return None
-        return header, np.frombuffer(data, dtype="<f8", offset=end + 1)
+        values = array("d")
+        values.frombytes(data[end + 1:])
+        if sys.byteorder == "big":  # stored little-endian
+            values.byteswap()
+        return header, values
     except (OSError, ValueError, RecursionError, RuntimeError):  # RuntimeError: no home directory
         return None
 
 
 def write(kind: str, key: dict, header: dict, values) -> None:
-    """Store ``header`` (JSON-able) and ``values`` (float64 array) for ``key``; any failure is
-    silently ignored."""
+    """Store ``header`` (JSON-able) and ``values`` (floats: a flat sequence, or a numpy array of
+    any shape) for ``key``; any failure is silently ignored."""
     import tempfile  # here, not at the top: it pulls in shutil, bz2, lzma, random (start-up)
 
-    import numpy as np
-
-    values = np.ascontiguousarray(values, dtype="<f8").ravel()
     temp = None
     try:
-        text = json.dumps({"key": key, "data": header, "values": int(values.size)})
+        if hasattr(values, "dtype"):  # numpy: its bytes as little-endian float64
+            import numpy as np
+
+            flat = np.ascontiguousarray(values, dtype="<f8").ravel()
+            count, data = int(flat.size), flat.tobytes()
+        else:
+            floats = array("d", values)
+            if sys.byteorder == "big":
+                floats.byteswap()
+            count, data = len(floats), floats.tobytes()
+        text = json.dumps({"key": key, "data": header, "values": count})
         target = _entry(kind, key)
         target.parent.mkdir(parents=True, exist_ok=True)
         fd, temp = tempfile.mkstemp(prefix=".tmp-", dir=target.parent)
         with os.fdopen(fd, "wb") as handle:
             handle.write(text.encode("utf-8") + b"\n")
-            handle.write(values.tobytes())
+            handle.write(data)
         os.replace(temp, target)
         temp = None
     except (OSError, ValueError, TypeError, RuntimeError):  # RuntimeError: no home directory

@@ -4,7 +4,7 @@ extent in the link frame), the geometry-derived inertia for the declared mass, t
 bound of the declared moments, the COM's distance from the geometry, and one verdict.
 
 ``analyse(robot)`` is computed once per robot (the rules of a run share it). Pure Python;
-numpy and trimesh are imported only for links with meshes.
+numpy and trimesh are imported only for meshes missing from the persistent cache.
 """
 
 from __future__ import annotations
@@ -400,20 +400,8 @@ def _judge(a: LinkAnalysis) -> None:
 def _reaches(shapes: list[ShapeInfo], origin: Vec3, axes: list[Vec3]) -> list[float]:
     """``phys.max_sq_distance`` over the shapes' extents for each axis; a mesh's offsets from
     ``origin`` and their squared lengths are computed once for all the axes."""
-    rows = []
-    arrays = None  # origin and axes as numpy vectors, made for the first mesh
-    for s in shapes:
-        if s.mesh is None:
-            rows.append([s.extent.max_sq_distance(origin, axis) for axis in axes])
-            continue
-        import numpy as np
-
-        if arrays is None:
-            arrays = (np.asarray(origin, dtype=float),
-                      [np.asarray(axis, dtype=float) for axis in axes])
-        rel = s.extent.points - arrays[0]
-        squares = np.einsum("ij,ij->i", rel, rel)
-        rows.append([float(np.max(squares - a * a)) for a in (rel @ axis for axis in arrays[1])])
+    rows = [s.extent.max_sq_distances(origin, axes) if s.mesh is not None
+            else [s.extent.max_sq_distance(origin, axis) for axis in axes] for s in shapes]
     return [max(row[k] for row in rows) for k in range(len(axes))]
 
 

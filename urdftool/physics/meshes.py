@@ -10,13 +10,14 @@ are also kept between runs in the persistent cache (``urdftool.cache``), so that
 
 from __future__ import annotations
 
+import math
 import re
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from urdftool.packages import is_file, resolved
-from urdftool.physics.inertia import Extent, Mat3, Solid, Vec3, sub
+from urdftool.physics.inertia import Extent, Mat3, Solid, Vec3, mat_vec, sub
 
 # formats trimesh reads (after pycollada for DAE); others (Ogre .mesh, VTK...) are not checked
 LOADABLE = {".stl", ".obj", ".dae", ".ply", ".off", ".glb", ".gltf", ".3mf", ".zae"}
@@ -42,7 +43,7 @@ class MeshInfo:
     solid: Solid | None = None  # unit density; None when the mesh encloses no volume
     watertight: bool = False
     used_hull: bool = False  # mass properties are the convex hull's (mesh not a closed volume)
-    hull: object = field(default=None, repr=False)  # numpy (n, 3) convex-hull vertices
+    hull: tuple = field(default=(), repr=False)  # convex-hull vertices: (x, y, z) float tuples
     lower: Vec3 = (0.0, 0.0, 0.0)
     upper: Vec3 = (0.0, 0.0, 0.0)
     faces: int = 0
@@ -137,9 +138,7 @@ def _stored_or_load(path: Path, need_volume: bool) -> MeshInfo:
 
 
 def _encode(info: MeshInfo) -> tuple[dict, object]:
-    """(JSON header, float64 hull vertices) of a summary, for ``urdftool.cache``."""
-    import numpy as np
-
+    """(JSON header, the hull vertices' coordinates) of a summary, for ``urdftool.cache``."""
     up = next((axis.decode() for axis, rotation in _UP_ROTATIONS.items()
                if rotation == info.up_rotation), None)
     solid = None if info.solid is None else [
@@ -147,8 +146,7 @@ def _encode(info: MeshInfo) -> tuple[dict, object]:
     header = {"error": info.error, "faces": info.faces, "lower": info.lower,
               "upper": info.upper, "up": up, "has_volume": info.has_volume,
               "watertight": info.watertight, "used_hull": info.used_hull, "solid": solid}
-    hull = np.zeros((0, 3)) if info.hull is None else info.hull
-    return header, hull
+    return header, [x for point in info.hull for x in point]
 
 
 def _floats(value, count: int) -> bool:
@@ -171,10 +169,11 @@ def _decode(path: Path, stored) -> MeshInfo | None:
         return None
     if error is not None:
         return MeshInfo(str(path), error=error)
-    if values.size == 0 or values.size % 3:
+    if len(values) == 0 or len(values) % 3:
         return None
     second = tuple(tuple(solid[4 + 3 * i:7 + 3 * i]) for i in range(3)) if solid else None
-    return MeshInfo(str(path), hull=values.reshape(-1, 3), lower=tuple(header["lower"]),
+    coordinates = iter(values)
+    return MeshInfo(str(path), hull=tuple(zip(coordinates, coordinates, coordinates)), lower=tuple(header["lower"]),
                     upper=tuple(header["upper"]), faces=header["faces"],
                     up_rotation=_UP_ROTATIONS[up.encode()] if up else None,
                     has_volume=flags[0], watertight=flags[1], used_hull=flags[2],
@@ -384,7 +383,7 @@ def _summarise(path: Path, vertices, faces, mesh, need_volume: bool) -> MeshInfo
     upper = tuple(float(x) for x in vertices.max(axis=0))
     points, index = _distinct(vertices)
     hull_points, hull_triangles = _hull(points)
-    info = {"path": str(path), "hull": hull_points, "lower": lower, "upper": upper,
+    info = {"path": str(path), "hull": tuple(map(tuple, hull_points.tolist())), "lower": lower, "upper": upper,
             "faces": len(faces), "up_rotation": up_rotation}
     if not need_volume:
         return MeshInfo(**info)  # type: ignore[arg-type]
@@ -411,27 +410,52 @@ def _summarise(path: Path, vertices, faces, mesh, need_volume: bool) -> MeshInfo
 class MeshExtent(Extent):
     """A mesh's convex hull placed in the link frame (scale, then rotation and translation).
     When the file's up axis is ambiguous, the hull of both readings (a superset: bounds and
-    inside tests stay on the safe side)."""
+    inside tests stay on the safe side). Plain Python over the hull's vertices (tens to a few
+    hundred): a run whose meshes all come from the persistent cache imports no numpy."""
 
     def __init__(self, info: MeshInfo, scale: Vec3, rotation: Mat3, translation: Vec3):
-        import numpy as np
-
         super().__init__(rotation, translation)
-        points = np.asarray(info.hull, dtype=float)
+        hull = info.hull
         if info.up_rotation is not None:  # either orientation: the union of both
-            points = np.vstack([points, points @ np.asarray(info.up_rotation).T])
-        points = points * np.asarray(scale, dtype=float)
-        self.points = points @ np.asarray(rotation, dtype=float).T + np.asarray(translation)
+            hull = (*hull, *(mat_vec(info.up_rotation, p) for p in hull))
+        sx, sy, sz = scale
+        (a, b, c), (d, e, f), (g, h, i) = rotation
+        tx, ty, tz = translation
+        points = []
+        for x, y, z in hull:
+            x, y, z = x * sx, y * sy, z * sz
+            points.append((a * x + b * y + c * z + tx, d * x + e * y + f * z + ty,
+                           g * x + h * y + i * z + tz))
+        self.points = points
 
     def support(self, direction: Vec3) -> Vec3:
-        import numpy as np
-
-        index = int(np.argmax(self.points @ np.asarray(direction, dtype=float)))
-        return tuple(self.points[index].tolist())  # type: ignore[return-value]
+        """The vertex farthest along ``direction`` (the first of equals; the first whose
+        projection is nan, as numpy's argmax: a mesh of nan vertices stays nan)."""
+        dx, dy, dz = direction
+        best, found = -math.inf, self.points[0]
+        for p in self.points:
+            value = p[0] * dx + p[1] * dy + p[2] * dz
+            if value > best:
+                best, found = value, p
+            elif math.isnan(value):
+                return p
+        return found
 
     def max_sq_distance(self, origin: Vec3, axis: Vec3) -> float:
-        import numpy as np
+        return self.max_sq_distances(origin, [axis])[0]
 
-        rel = self.points - np.asarray(origin, dtype=float)
-        along = rel @ np.asarray(axis, dtype=float)
-        return float(np.max(np.einsum("ij,ij->i", rel, rel) - along * along))
+    def max_sq_distances(self, origin: Vec3, axes: list[Vec3]) -> list[float]:
+        """The largest squared distance of a hull vertex from the line (origin, unit axis),
+        for each axis (each vertex's offset and its squared length computed once); nan when
+        one is nan (as numpy's max)."""
+        ox, oy, oz = origin
+        best = [-math.inf] * len(axes)
+        for x, y, z in self.points:
+            rx, ry, rz = x - ox, y - oy, z - oz
+            square = rx * rx + ry * ry + rz * rz
+            for k, (ax, ay, az) in enumerate(axes):
+                along = rx * ax + ry * ay + rz * az
+                value = square - along * along
+                if value > best[k] or math.isnan(value):  # once nan, nothing is greater
+                    best[k] = value
+        return best
