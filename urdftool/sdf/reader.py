@@ -122,6 +122,7 @@ class Reader:
                 if entry:
                     self.model_paths.append(Path(entry))
         self._element_doc: dict[int, Doc] = {}  # id(root) -> doc
+        self._lines: dict[int, list[str]] = {}  # id(doc) -> its lines, split once (issue 15)
         self._include_stack: list[Path] = []
 
     # -- reporting -------------------------------------------------------------------------
@@ -136,7 +137,9 @@ class Reader:
             return Loc(self.source.path)
         line = element.sourceline
         column = None
-        lines = doc.text.splitlines()
+        lines = self._lines.get(id(doc))
+        if lines is None:
+            lines = self._lines[id(doc)] = doc.text.splitlines()
         if line and line <= len(lines) and isinstance(element.tag, str):
             index = lines[line - 1].find("<" + element.tag)
             column = index + 1 if index >= 0 else None
