@@ -1,0 +1,85 @@
+"""Big inputs (issue 15): a 50k-link chain through every command (no recursion over the tree,
+nothing quadratic), and big tables drawn without rich's per-cell measurement looking exactly
+as rich draws them. Correctness only: the timings are in benchmarks/bench_scale.py."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+
+from tests.conftest import example_robot_urdfs, run_urdftool
+
+N = 50_000
+
+
+@pytest.fixture(scope="module")
+def chain(tmp_path_factory):
+    """A serial chain of N links (l0 ... l{N-1}), bare links: the parse stays quick."""
+    parts = ['<robot name="rope">']
+    for i in range(N):
+        parts.append(f'<link name="l{i}"/>')
+        if i:
+            parts.append(f'<joint name="j{i}" type="revolute"><parent link="l{i - 1}"/>'
+                         f'<child link="l{i}"/><origin xyz="0 0 0.01"/><axis xyz="0 1 0"/>'
+                         '<limit lower="-0.1" upper="0.1" effort="1" velocity="1"/></joint>')
+    parts.append("</robot>")
+    path = tmp_path_factory.mktemp("scale") / "rope.urdf"
+    path.write_text("\n".join(parts), encoding="utf-8")
+    return path
+
+
+def test_tree_of_a_50k_chain(chain):
+    result = run_urdftool("tree", "--format", "json", chain)
+    assert result.code == 0, result.err
+    # 100k levels of nesting: more than Python's json module parses (its recursion limit)
+    assert re.findall(r'"link": "([^"]*)"', result.out) == [f"l{i}" for i in range(N)]
+    assert result.out.count("[") == result.out.count("]") == N + 1  # roots and each children
+    # each node's "joint" follows its "children": innermost first
+    assert re.findall(r'"joint": "([^"]*)"', result.out) == [f"j{i}" for i in range(N - 1, 0, -1)]
+    text = run_urdftool("tree", chain)
+    assert text.code == 0, text.err
+    lines = text.out.splitlines()
+    assert len(lines) == N + 1 and lines[-1].endswith(f"l{N - 1} via j{N - 1} (revolute)")
+    assert max(map(len, lines)) < 300  # the indentation stops growing
+
+
+def test_check_and_limits_of_a_50k_chain(chain):
+    check = run_urdftool("check", "--format", "json", chain)
+    assert check.code in (0, 1), check.err
+    assert json.loads(check.out)["summary"]["files"] == 1
+    limits = run_urdftool("limits", chain)
+    assert limits.code == 0, limits.err
+    assert limits.out.count(" revolute ") == N - 1
+
+
+def test_dh_and_jacobian_at_the_end_of_a_50k_chain(chain):
+    """The tip's path to the root is walked in full (iteratively); the table is the last 99
+    joints above the leaf."""
+    dh = run_urdftool("dh", "--format", "json", "--base", f"l{N - 100}", chain)
+    assert dh.code == 0, dh.err
+    rows = json.loads(dh.out)["rows"]
+    assert [r["joint"] for r in rows] == [f"j{i}" for i in range(N - 99, N)]
+    jac = run_urdftool("jacobian", "--format", "json", "--base", f"l{N - 100}", chain)
+    assert jac.code == 0, jac.err
+    matrix = json.loads(jac.out)["J"]
+    assert len(matrix) == 6 and all(len(row) == 99 for row in matrix)
+
+
+@pytest.mark.parametrize("command", ["limits", "inertia"])
+def test_big_tables_look_as_rich_draws_them(monkeypatch, command):
+    """The same output through rich (every table small) and through the fast drawing (every
+    table big) on real robots: multi-line verdicts, markup, right-justified numbers."""
+    from urdftool.cli import table
+
+    robots = [p for p in example_robot_urdfs() if p.name in ("panda.urdf", "talos_reduced.urdf",
+                                                              "romeo.urdf", "solo12.urdf")]
+    assert len(robots) >= 3
+    for robot in robots:
+        monkeypatch.setattr(table, "BIG", 10**9)
+        by_rich = run_urdftool(command, robot)
+        monkeypatch.setattr(table, "BIG", 0)
+        drawn = run_urdftool(command, robot)
+        assert drawn.code == by_rich.code and drawn.out == by_rich.out, robot
+        assert "┃" in drawn.out
