@@ -26,7 +26,7 @@ import sys
 import time
 from pathlib import Path
 
-from urdftool.safe_eval import LimitExceeded
+from urdftool.xacro_eval import LimitExceeded
 
 GRACE_SECONDS = 1.0  # the child stops itself at the deadline; it is killed this much later
 MAX_RESULT_BYTES = 1 << 30

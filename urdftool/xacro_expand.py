@@ -4,9 +4,10 @@ xacro keeps global state and reads files itself; ``_patched_xacro`` swaps in, fo
 of one expansion, a parser that repairs and tags every element with its file and line, a macro
 call handler that records call sites, and a package finder that uses our resolver.
 
-It also makes expansion safe on untrusted files: every expression goes through
-``urdftool.safe_eval`` (validated, guarded), ``$(env)``/``$(optenv)`` see only ``--allow-env``
-variables, files are read only inside the package roots, and a deadline bounds the run. With
+It also makes expansion safe on untrusted files: every expression (``${}``, ``$(eval)``, YAML
+units) is evaluated by ``urdftool.xacro_eval``'s interpreter, never by Python's ``eval``;
+``xacro.load_yaml`` reads with the safe loader through ``_Policy``; ``$(env)``/``$(optenv)``
+see only ``--allow-env`` variables, files are read only inside the package roots, and a deadline bounds the run. With
 ``LoadOptions.untrusted`` the whole xacro pass runs in a child process (``urdftool.sandbox``)
 with a wall-time and memory limit; it hands back the expanded text, tagged with the source
 locations, and the problems found.
@@ -125,7 +126,7 @@ def _cause(exc: BaseException, kinds) -> BaseException | None:
 
 def _scan_expressions(root, text: str, shown: str, source: Source) -> bool:
     """Record every literal expression of the file that the validator rejects."""
-    from urdftool.safe_eval import scan
+    from urdftool.xacro_eval import scan
 
     found = False
     for element in root.iter():
@@ -149,14 +150,23 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     import xacro
     from xacro import substitution_args
 
-    from urdftool.safe_eval import Evaluator, LimitExceeded, UnsafeExpression
+    from urdftool.xacro_eval import Interpreter, LimitExceeded, UnsafeExpression
 
     policy = policy or _Policy()
-    evaluator = Evaluator(policy.deadline)
+
+    def read_yaml(filename: str) -> str:
+        """xacro.load_yaml's file: inside the package roots, a regular file, bounded."""
+        policy.check_path(filename)
+        if os.path.exists(filename) and not os.path.isfile(filename):
+            raise OSError(f"{filename}: not a regular file (a device or a pipe)")
+        if os.path.isfile(filename) and os.path.getsize(filename) > MAX_FILE_BYTES:
+            raise LimitExceeded(f"{filename}: larger than {MAX_FILE_BYTES >> 20} MB")
+        return read_text(Path(filename))
+
+    interpreter = Interpreter(policy.deadline, read_yaml)
     saved = (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
              xacro.process_include, xacro.safe_eval, substitution_args._eval,
              substitution_args._eval_env, substitution_args._eval_optenv)
-    had_open = "open" in vars(xacro)
 
     def display_path(filename: str) -> str:
         candidate = Path(filename)
@@ -279,10 +289,10 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         return str(directory)
 
     def safe_eval(expr, globals, locals=None):
-        return evaluator.eval_expression(expr, globals)
+        return interpreter.evaluate(expr, globals)
 
     def eval_substitution(s, context):
-        """xacro's ``$(eval ...)`` with the builtins, calls and attributes guarded."""
+        """xacro's ``$(eval ...)``, by the interpreter."""
         if "arg" not in context:
             context["arg"] = {}
 
@@ -293,19 +303,16 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         def dirname():
             return substitution_args._eval_dirname(context["filename"])
 
-        functions = {"arg": arg, "dirname": dirname}
-        functions.update(substitution_args._eval_dict)
-        functions.update(env=eval_env, optenv=eval_optenv, find=find)
-        evaluator.allow(arg, dirname, eval_env, eval_optenv, find)
         if s.find("__") >= 0:
             raise substitution_args.SubstitutionException(
                 "$(eval ...) may not contain double underscore expressions")
+        functions = {"arg": arg, "dirname": dirname, "env": eval_env, "optenv": eval_optenv,
+                     "find": find}
         try:
-            value = evaluator.eval_substitution(s, substitution_args._DictWrapper(
-                context["arg"], functions))
+            value = interpreter.evaluate_substitution(s, context["arg"], functions)
         except UnsafeExpression as exc:
             raise UnsafeExpression(f"$(eval {s})", exc.reason) from None
-        return str(value)
+        return interpreter.to_str(value)
 
     def eval_env(name):
         if policy.allow_env is not None and name not in policy.allow_env:
@@ -319,33 +326,21 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             return default
         return saved[8](name, default)
 
-    def confined_open(filename, *args, **kwargs):
-        """xacro's own file reads (load_yaml): inside the package roots, of bounded size."""
-        policy.check_path(filename)
-        if os.path.exists(filename) and not os.path.isfile(filename):
-            raise OSError(f"{filename}: not a regular file (a device or a pipe)")
-        if os.path.isfile(filename) and os.path.getsize(filename) > MAX_FILE_BYTES:
-            raise LimitExceeded(f"{filename}: larger than {MAX_FILE_BYTES >> 20} MB")
-        return open(filename, *args, **kwargs)
-
     xacro.parse, xacro.handle_macro_call, xacro.eval_all = parse, handle_macro_call, eval_all
     substitution_args._eval_find, xacro.process_include = find, process_include
     xacro.safe_eval, substitution_args._eval = safe_eval, eval_substitution
     substitution_args._eval_env, substitution_args._eval_optenv = eval_env, eval_optenv
-    xacro.open = confined_open
     try:
         yield xacro
     finally:
         (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
          xacro.process_include, xacro.safe_eval, substitution_args._eval,
          substitution_args._eval_env, substitution_args._eval_optenv) = saved
-        if not had_open:
-            del xacro.open
 
 
 def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Policy) -> Expansion:
     """Run xacro on ``path``; everything it reports is in the returned Expansion."""
-    from urdftool.safe_eval import LimitExceeded, UnsafeExpression
+    from urdftool.xacro_eval import LimitExceeded, UnsafeExpression
 
     work = Source(source.path, source.kind, texts=dict(source.texts), resolver=source.resolver)
     files = _Files()
@@ -453,8 +448,8 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
     untrusted = getattr(options, "untrusted", False)
     deadline = time.monotonic() + timeout if timeout else None
     if untrusted:
-        from urdftool.safe_eval import LimitExceeded
         from urdftool.sandbox import SandboxFailure, run_isolated
+        from urdftool.xacro_eval import LimitExceeded
 
         roots = source.resolver.confined_roots if source.resolver is not None else None
         if roots is None:
