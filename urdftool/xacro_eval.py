@@ -248,36 +248,57 @@ def _measure(value, budget: int, tick=None) -> int:
         if depth < 0:  # leaving a container
             on_path.discard(id(item))
             continue
-        kind = type(item)
-        if kind is str:
-            total += len(item) + 2
-        elif kind is int:
-            total += item.bit_length() * 0.302 + 2
-        elif kind in (float, bool, type(None), range, slice) or kind in _OWN:
-            total += 24
+        if tick is not None:
+            tick()
+        if isinstance(item, dict):
+            children = [*item.keys(), *item.values()]
+            total += 2 + 4 * len(item)
+        elif isinstance(item, (list, tuple, set, frozenset)):
+            children = list.copy(item) if isinstance(item, list) else item  # YAML: as stored
+            total += 2 + 2 * len(item)
         else:
+            total += _scalar_size(item)
+            children = ()
+        if children:
             if id(item) in on_path:
                 total += 5  # '[...]'
                 continue
             if depth >= MAX_DEPTH:
                 raise LimitExceeded(f"data nested more than {MAX_DEPTH} levels deep")
-            if isinstance(item, dict):
-                children = [*item.keys(), *item.values()]
-            elif isinstance(item, (list, tuple, set, frozenset)):
-                children = list(item) if not isinstance(item, list) else \
-                    list.__iter__(item)  # YamlListWrapper: its items as stored
-            else:
-                total += 24
-                continue
-            total += 2 + 2 * len(item) + 2 * isinstance(item, dict) * len(item)
             on_path.add(id(item))
             stack.append((item, -1))
-            stack.extend((child, depth + 1) for child in children)
+            kinds = set(map(type, children))
+            if kinds <= _FLAT:  # no containers among them: sized without a Python loop
+                total += (24 if float in kinds else 4) * len(children)
+                if str in kinds:
+                    total += sum(len(c) for c in children if type(c) is str)
+                if int in kinds:
+                    total += max(c.bit_length() for c in children if type(c) is int) * 0.302 \
+                        * len(children)
+            else:
+                for child in children:
+                    kind = type(child)
+                    if kind is str:
+                        total += len(child) + 2
+                    elif kind in _FLAT:
+                        total += _scalar_size(child)
+                    else:
+                        stack.append((child, depth + 1))
         if total > budget:
             raise LimitExceeded(f"data of more than {budget} characters (or items)")
-        if tick is not None:
-            tick()
     return int(total)
+
+
+_FLAT = frozenset({str, int, float, bool, type(None)})
+
+
+def _scalar_size(item) -> float:
+    kind = type(item)
+    if kind is str:
+        return len(item) + 2
+    if kind is int:
+        return item.bit_length() * 0.302 + 2
+    return 24
 
 
 # -- the interpreter --------------------------------------------------------------------------
@@ -466,8 +487,10 @@ class Interpreter:
             yield item
 
     def items(self, value) -> list:
-        if type(value) in (list, tuple) and len(value) <= MAX_ITEMS:
-            return self.made(list(value))
+        if type(value) in (list, tuple, range, str, set, frozenset, dict) \
+                and len(value) <= MAX_ITEMS:
+            self.tick()
+            return self.made(list(value))  # C speed: the size is known first
         result = []
         for item in self.iterate(value):
             result.append(item)
@@ -1541,7 +1564,8 @@ def _math_entries() -> dict:
 def _tokenize(it, args, kwargs):
     """xacro.tokenize without a regex: ``sep`` is read as the regex character class xacro
     builds from it (literal characters, ``a-z`` ranges, a leading ``^``, ``\\s``/``\\d``/``\\w``),
-    and the string split on any of them."""
+    and the string split on any of them; a ``]`` that would end the class (and make the rest
+    a regex) is refused."""
     _arity("xacro.tokenize", args, kwargs, 1, 3, ("sep", "skip_empty"))
     text = args[0]
     sep = args[1] if len(args) > 1 else kwargs.get("sep", ",; ")
@@ -1581,6 +1605,9 @@ def _char_class(sep: str):
             else:
                 chars.add(_ESCAPES.get(escaped, escaped))
             i += 2
+        elif char == "]" and i > 0:
+            raise _unsafe("xacro.tokenize's separator closes the character class xacro builds "
+                          "a regular expression from; urdftool splits on characters only")
         elif i + 2 < len(body) and body[i + 1] == "-":
             ranges.append((char, body[i + 2]))
             i += 3
