@@ -27,6 +27,7 @@ test: $(STAMP)
 
 fuzz: $(STAMP)
 	$(BIN)/python -m urdftool.cli.fuzz --cases 10000
+	URDFTOOL_FUZZ_EXAMPLES=3000 $(BIN)/python -m pytest -q tests/test_xacro_eval_fuzz.py
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_check.py
