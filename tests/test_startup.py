@@ -16,7 +16,8 @@ UNNEEDED = (
     # heavy optional dependencies: meshes, kinematics, simulation, symbolic maths, pretty output
     "numpy", "scipy", "trimesh", "pinocchio", "pybullet", "sympy", "rich",
     # xacro and SDF inputs
-    "xacro", "yaml", "urdftool.xacro_expand", "urdftool.sandbox", "urdftool.sdf",
+    "xacro", "yaml", "urdftool.xacro_expand", "urdftool.xacro_eval", "urdftool.sandbox",
+    "urdftool.sdf", "string",
     # importlib.resources pulls in zipfile, tempfile, shutil, bz2, lzma, random (~4 ms)
     "importlib.resources", "zipfile", "tempfile", "shutil", "bz2", "lzma", "random",
     # did-you-mean hints and the XML repair; the mesh cache's file names and writes; --jobs
