@@ -1264,14 +1264,15 @@ def _unbound(function, name):
 
 
 def _sorted(it, values, key=None, reverse=False):
-    items = it.items(values)
+    items = it.items(values)  # a new list, already accounted for
     it.bounded(items)
     if key is None:
-        return it.made(sorted(items, reverse=bool(reverse)))
+        items.sort(reverse=bool(reverse))
+        return items
     keys = [it.call(key, [item]) for item in items]
     it.bounded(keys)
     order = sorted(range(len(items)), key=keys.__getitem__, reverse=bool(reverse))
-    return it.made([items[i] for i in order])
+    return [items[i] for i in order]
 
 
 def _extreme(pick):
@@ -1398,10 +1399,12 @@ def _str(it, args, kwargs):
 def _collection(pytype):
     def impl(it, args, kwargs):
         _arity(pytype.__name__, args, kwargs, 0, 1)
-        values = it.items(args[0]) if args else []
+        values = it.items(args[0]) if args else []  # a new list, already accounted for
+        if pytype is list:
+            return values
         if pytype in (set, frozenset):
             it.bounded(values)
-        return it.made(pytype(values))
+        return pytype(values)
     return impl
 
 
