@@ -108,10 +108,13 @@ def test_interpreter_keeps_valid_files_identical(path, args, monkeypatch, ament_
 
 
 def test_corpus_is_not_trivial():
-    """The corpus really exercises the validator: YAML, python.*, string methods, comprehensions,
+    """The corpus really exercises the interpreter: YAML, python.*, string methods, comprehensions,
     $(eval), namespaces; and the seeds and example-robot-data files are in it."""
     names = {p.name for p, _ in _corpus()}
     assert {"arm.urdf.xacro", "dynamic.urdf.xacro", "m2wr.xacro", "test.xacro"} <= names
+    if REAL.is_dir():
+        assert {"test_d435_multiple_cameras.urdf.xacro", "_d455.urdf.xacro",
+                "flir_blackfly_s.urdf.xacro"} <= names
     text = (SAFE / "arm_description" / "urdf" / "arm.urdf.xacro").read_text()
     for feature in ("xacro.load_yaml", "python.sorted", ".format(", "for j in joints",
                     "$(eval", ".upper()", "extra.", "' if "):
