@@ -237,9 +237,10 @@ def scan(value: str) -> list[UnsafeExpression]:
 # -- measuring data -------------------------------------------------------------------------
 
 
-def _measure(value, budget: int, tick=None) -> int:
-    """Characters of ``repr(value)`` (strings and numbers estimated), every shared part counted
-    each time it is reached; LimitExceeded beyond ``budget`` or MAX_DEPTH levels."""
+def _measure(value, budget: int, tick=None, work=False) -> int:
+    """Characters of ``repr(value)`` (strings and numbers estimated), or with ``work`` the items
+    a compare or hash visits, every shared part counted each time it is reached;
+    LimitExceeded beyond ``budget`` or MAX_DEPTH levels."""
     total = 0
     stack = [(value, 0)]
     on_path: set = set()
@@ -268,7 +269,9 @@ def _measure(value, budget: int, tick=None) -> int:
             on_path.add(id(item))
             stack.append((item, -1))
             kinds = set(map(type, children))
-            if kinds <= _FLAT:  # no containers among them: sized without a Python loop
+            if kinds <= _FLAT and work:
+                total += len(children)
+            elif kinds <= _FLAT:  # no containers among them: sized without a Python loop
                 total += (24 if float in kinds else 4) * len(children)
                 if str in kinds:
                     total += sum(len(c) for c in children if type(c) is str)
@@ -455,7 +458,7 @@ class Interpreter:
         """Measure nested data before C code walks it (compare, hash, sort, membership)."""
         for value in values:
             if type(value) not in _SCALARS and not isinstance(value, (range, slice, *_OWN)):
-                _measure(value, MAX_TREE, self.tick)
+                _measure(value, MAX_TREE, self.tick, work=True)
 
     def admit(self, value):
         """A value from outside the interpreter (xacro's tables): closed types only."""
