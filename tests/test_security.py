@@ -317,11 +317,13 @@ def test_huge_include_is_refused_without_reading_it(mode, tmp_path, monkeypatch)
 
 
 def test_sandbox_memory_limit(tmp_path):
-    """A memory bomb the interpreter's size budget lets through (three dicts of a million
-    numbers, ~200 MB) dies on the child's memory limit, not on the machine."""
+    """A memory bomb no expression limit stops (a macro doubling itself thirty times: a billion
+    elements, each a few DOM nodes) dies on the child's memory limit, not on the machine."""
     path = tmp_path / "bomb.urdf.xacro"
-    path.write_text(HEAD + '  <link name="${python.len([python.dict.fromkeys(python.range(10**6)) '
-                    'for i in python.range(3)])}"/>\n' + TAIL)
+    path.write_text(HEAD + '  <xacro:macro name="twice" params="n"><xacro:if value="${n > 0}">'
+                    '<xacro:twice n="${n-1}"/><xacro:twice n="${n-1}"/></xacro:if>'
+                    '<link name="l${n}"><visual><geometry><box size="1 2 3"/></geometry></visual>'
+                    '</link></xacro:macro>\n  <xacro:twice n="30"/>\n' + TAIL)
     started = time.monotonic()
     result = run_urdftool("check", "--format", "json", "--untrusted", "--memory-limit", "100",
                           "--timeout", "20", path)
