@@ -114,7 +114,9 @@ def test_an_unexpected_error_in_a_worker_is_reported_as_in_process(tmp_path, wri
         assert "Unpicklable" in result.err
 
 
-def test_default_jobs_are_the_cpus_available(monkeypatch, tmp_path, write):
+def test_default_jobs_follow_the_amount_of_work(monkeypatch, tmp_path, write):
+    """A handful of small files: one process (a pool costs more than it saves); enough work:
+    a worker per CPU available."""
     assert check.available_cpus() == len(os.sched_getaffinity(0))
     for index in range(3):
         write(GOOD, f"r{index}.urdf")
@@ -124,6 +126,13 @@ def test_default_jobs_are_the_cpus_available(monkeypatch, tmp_path, write):
                         lambda files, options, jobs, progress=None: seen.append(jobs) or
                         [check.check_file(f.path, options, f) for f in files])
     check.check_paths([str(tmp_path)])
-    check.check_paths([str(tmp_path / "r0.urdf")])  # one file: in-process
+    assert seen == []
+    assert check.default_jobs([str(p) for p in tmp_path.glob("*.urdf")]) == 1
+    # 2 MB each (a comment): ~0.6 s of estimated work per file
+    padding = "<!--" + "x" * 2_000_000 + "-->"
+    for index in range(3):
+        write(GOOD.replace("<robot", padding + "<robot", 1), f"big{index}.urdf")
+    check.check_paths([str(tmp_path)])
+    check.check_paths([str(tmp_path / "big0.urdf")])  # one file: in-process
     check.check_paths([str(tmp_path)], check.CheckOptions(jobs=1))
     assert seen == [2]
