@@ -115,24 +115,34 @@ def test_an_unexpected_error_in_a_worker_is_reported_as_in_process(tmp_path, wri
 
 
 def test_default_jobs_follow_the_amount_of_work(monkeypatch, tmp_path, write):
-    """A handful of small files: one process (a pool costs more than it saves); enough work:
-    a worker per CPU available."""
+    """A handful of small files: one process (a pool costs more than it saves). Otherwise the
+    files are checked here first, and the rest go to workers only when the time measured so
+    far says they are worth it."""
     assert check.available_cpus() == len(os.sched_getaffinity(0))
     for index in range(3):
         write(GOOD, f"r{index}.urdf")
     seen = []
     monkeypatch.setattr(check, "available_cpus", lambda: 2)
     monkeypatch.setattr(check, "_check_in_workers",
-                        lambda files, options, jobs, progress=None: seen.append(jobs) or
+                        lambda files, options, jobs, progress=None: seen.append(
+                            (jobs, len(files))) or
                         [check.check_file(f.path, options, f) for f in files])
-    check.check_paths([str(tmp_path)])
-    assert seen == []
+    report = check.check_paths([str(tmp_path)])
+    assert seen == [] and len(report.files) == 3
     assert check.default_jobs([str(p) for p in tmp_path.glob("*.urdf")]) == 1
-    # 2 MB each (a comment): ~0.6 s of estimated work per file
-    padding = "<!--" + "x" * 2_000_000 + "-->"
+    # 4 MB each (a comment): an estimate worth two workers, but checked in no time
+    padding = "<!--" + "x" * 4_000_000 + "-->"
     for index in range(3):
         write(GOOD.replace("<robot", padding + "<robot", 1), f"big{index}.urdf")
+    assert check.default_jobs([str(p) for p in tmp_path.glob("big*.urdf")]) == 2
+    monkeypatch.setattr(check, "PROBE", 0.0)
     check.check_paths([str(tmp_path)])
+    assert seen == []  # measured: not worth a worker
+    monkeypatch.setattr(check, "WORK_PER_WORKER", 1e-9)  # as if every file took long
+    report = check.check_paths([str(tmp_path)])
+    assert seen == [(2, 5)] and [f.path for f in report.files] == sorted(
+        str(p) for p in tmp_path.glob("*.urdf"))  # the first file here, the rest in 2 workers
     check.check_paths([str(tmp_path / "big0.urdf")])  # one file: in-process
     check.check_paths([str(tmp_path)], check.CheckOptions(jobs=1))
-    assert seen == [2]
+    check.check_paths([str(tmp_path)], check.CheckOptions(jobs=2))
+    assert seen == [(2, 5), (2, 6)]

@@ -115,14 +115,15 @@ def available_cpus() -> int:
 # fork, its share of the results' pickling and the per-process memos it builds again
 SECONDS_PER_FILE = 0.002
 SECONDS_PER_BYTE = 3e-7
-WORK_PER_WORKER = 0.5
+WORK_PER_WORKER = 1.0
 
 
 def default_jobs(paths: list) -> int:
-    """Worker processes when --jobs is not given: one per ``WORK_PER_WORKER`` seconds of work
-    estimated from the files' count and sizes, at most the CPUs available. A handful of small
-    files is checked in this process (issue 15: a pool of 2 was 1.2x slower than one process
-    on the corpus). ``urdftool sim`` sizes its pool the same way."""
+    """The most worker processes worth having when --jobs is not given: one per
+    ``WORK_PER_WORKER`` seconds of work estimated from the files' count and sizes, at most the
+    CPUs available. A handful of small files is checked in this process (issue 15: a pool of 2
+    was 1.2x slower than one process on the corpus); ``check`` then measures (see
+    ``_check_measured``). ``urdftool sim`` can size its pool the same way."""
     work = 0.0
     for path in paths:
         try:
@@ -157,6 +158,8 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
                 checked.append(check_file(target.path, options, target))
                 if progress is not None:
                     progress(len(checked), len(targets))
+        elif options.jobs is None:  # measured before forking: the estimate cannot see meshes
+            checked = _check_measured(targets, options, jobs, progress)
         else:
             checked = _check_in_workers(targets, options, jobs, progress)
         for i, report in zip(todo, checked):
@@ -167,6 +170,36 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
         return Report(merge_repeats(shown), notes)
     finally:
         gc.set_threshold(*thresholds)
+
+
+PROBE = 0.5  # seconds of checking in this process before deciding on workers
+
+
+def _check_measured(targets: list, options: CheckOptions, jobs: int, progress) -> list:
+    """The default --jobs: files checked here for ``PROBE`` seconds, then the rest in up to
+    ``jobs`` workers if their time, extrapolated, gives each ``WORK_PER_WORKER`` seconds (a
+    cold mesh cache: seconds of mesh parsing a file), else here too (a warm corpus: a pool
+    was slower than this process, which already holds the run's memos; forked workers
+    inherit them)."""
+    import time
+
+    start = time.perf_counter()
+    checked: list = []
+    total = len(targets)
+    for target in targets:
+        checked.append(check_file(target.path, options, target))
+        if progress is not None:
+            progress(len(checked), total)
+        elapsed = time.perf_counter() - start
+        left = total - len(checked)
+        if elapsed > PROBE and left > 1:
+            workers = min(jobs, left, int(elapsed / len(checked) * left / WORK_PER_WORKER))
+            if workers > 1:
+                done = len(checked)
+                shifted = None if progress is None else \
+                    (lambda finished, _, done=done: progress(done + finished, total))
+                return checked + _check_in_workers(targets[done:], options, workers, shifted)
+    return checked
 
 
 def _single_threaded_blas() -> None:
