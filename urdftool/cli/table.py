@@ -48,10 +48,14 @@ class _Drawn:
                                    else console.safe_box)
         header_style = console.get_style(table.header_style or "")
 
+        memo: dict[str, list] = {}  # styled cells recur (every row's "ok" verdict)
+
         def lines_of(markup: str, style):
             """[(plain, segments or None)] of a cell: segments only when styled."""
             if "[" not in markup and ":" not in markup and not style:
                 return [(line, None) for line in markup.split("\n")]
+            if not style and markup in memo:
+                return memo[markup]
             text = console.render_str(markup, highlight=False) if isinstance(markup, str) \
                 else markup
             if style:
@@ -60,6 +64,8 @@ class _Drawn:
             for line in text.split("\n", allow_blank=True):
                 segments = list(line.render(console)) if line.spans or line.style else None
                 out.append((line.plain, segments))
+            if not style:
+                memo[markup] = out
             return out
 
         columns = table.columns
