@@ -45,7 +45,8 @@ def command(rule_id, fmt):
     from rich.syntax import Syntax
 
     for r in rules:
-        console.rule(f"[bold]{r.id}[/] ({r.severity})")
+        console.print(f"[bold]── {r.id}[/] ({r.severity}) ──")  # not a rule: as wide as the
+        # console, which is unbounded when piped
         console.print(r.summary)
         if r.doc:
             console.print("\n" + " ".join(r.doc.split()))
