@@ -288,6 +288,8 @@ def test_tables_keep_rows_on_one_line_when_piped(tmp_path):
     assert rows and len({len(line) for line in rows}) == 1  # one line per row, none wrapped
     title = limits.out.splitlines()[0]
     assert title.rstrip().endswith("moving joint(s)")
+    explained = run_urdftool("rules", "xml.unclosed-tag").out  # nothing drawn console-wide
+    assert max(len(line) for line in explained.splitlines()) < 1000
 
 
 # -- expand ------------------------------------------------------------------------------------
