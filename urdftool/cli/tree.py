@@ -165,7 +165,10 @@ def _print_tree(robot, data: dict) -> None:
         if node["children"]:
             guides.append(bar if more else space)
             stack.append(_with_more(node["children"]))
-    console.print(text)
+    if console.color_system is None:  # no styles to draw: the text as is, without rich's
+        console.file.write(text.plain + "\n")  # rendering of it (a third of a big tree)
+    else:
+        console.print(text)
 
 
 def _with_more(nodes: list):
