@@ -143,7 +143,9 @@ class Reader:
         if line and line <= len(lines) and isinstance(element.tag, str):
             index = lines[line - 1].find("<" + element.tag)
             column = index + 1 if index >= 0 else None
-        return Loc(doc.path, line, column, element.getroottree().getpath(element))
+        # Source.xpath is getpath in linear time (lxml's counts every ancestor's preceding
+        # siblings: quadratic on a model of thousands of links, issue 15)
+        return Loc(doc.path, line, column, self.source.xpath(element))
 
     def report(self, rule: str, message: str, element, hint: str | None = None,
                severity: str | None = None) -> None:
