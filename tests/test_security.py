@@ -316,15 +316,15 @@ def test_huge_include_is_refused_without_reading_it(mode, tmp_path, monkeypatch)
                for d in diagnostics), diagnostics
 
 
-def test_sandbox_memory_limit():
-    """A child that allocates past ``memory_mb`` is stopped with a limit, not the machine.
-    (No xacro expression can do it any more: the interpreter's size budget stops them first.)"""
-    from urdftool.sandbox import run_isolated
-    from urdftool.xacro_eval import LimitExceeded
+def test_sandbox_memory_limit(tmp_path):
+    """Code in the sandboxed reader that allocates past ``memory_mb`` gets a MemoryError, not
+    the machine. (No xacro expression can do it any more: the interpreter's size budget stops
+    them first.)"""
+    from urdftool.sandbox import run_test_payload
 
     started = time.monotonic()
-    with pytest.raises(LimitExceeded, match="memory"):
-        run_isolated(lambda: len(bytearray(4 << 30)), (), timeout=20, memory_mb=100, env={})
+    answer = run_test_payload("result = len(bytearray(4 << 30))", [tmp_path], memory_mb=256)
+    assert "MemoryError" in answer["error"]
     assert time.monotonic() - started < 20
 
 
@@ -344,56 +344,6 @@ def test_size_guards(expression):
     with pytest.raises(LimitExceeded):
         Interpreter().evaluate(expression, xacro.Table(xacro._global_symbols))
     assert time.monotonic() - started < 1
-
-
-def test_sandbox_child_is_killed_at_the_deadline():
-    from urdftool.sandbox import run_isolated
-    from urdftool.xacro_eval import LimitExceeded
-
-    started = time.monotonic()
-    with pytest.raises(LimitExceeded, match="longer than"):
-        run_isolated(time.sleep, (30,), timeout=0.5, memory_mb=256, env={})
-    assert time.monotonic() - started < 5
-
-
-def test_sandbox_environment_is_scrubbed(monkeypatch):
-    from urdftool.sandbox import run_isolated
-
-    monkeypatch.setenv("URDFTOOL_SECRET", "hunter2")
-    seen = run_isolated(lambda: dict(os.environ), (), timeout=10, memory_mb=256,
-                        env={"ALLOWED": "yes"})
-    assert seen == {"ALLOWED": "yes"}
-
-
-class _Exploit:
-    def __init__(self, marker):
-        self.marker = marker
-
-    def __reduce__(self):
-        return os.system, (f"touch {self.marker}",)
-
-
-def test_sandbox_result_is_json_not_pickle(tmp_path):
-    """A subverted child can only send data: a pickle that would run a command in the parent
-    is just an unreadable result."""
-    import pickle
-
-    from urdftool.sandbox import SandboxFailure, run_isolated
-
-    marker = tmp_path / "PWNED-parent"
-
-    def send_pickle():
-        payload = pickle.dumps(_Exploit(marker))
-        for name in os.listdir("/proc/self/fd"):
-            try:
-                os.write(int(name), payload)
-            except OSError:
-                pass
-        os._exit(0)
-
-    with pytest.raises(SandboxFailure):
-        run_isolated(send_pickle, (), timeout=10, memory_mb=256, env={})
-    assert not marker.exists()
 
 
 TETRAHEDRON = "solid t\n" + "".join(

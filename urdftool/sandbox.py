@@ -1,19 +1,26 @@
-"""Isolation for untrusted input: run one function (the xacro pass) in a child process.
+"""``--untrusted``: where an untrusted input may read, and the sandboxed reader that parses it.
 
-The child is forked, so it starts at once with everything already imported; before it runs the
-function it
+Under ``--untrusted`` every file whose parsing is more than bounded XML reading happens in a
+separate, fresh Python interpreter (``urdftool.sandbox_child``), never a fork of this process
+(which holds the CI secrets in its memory and environment):
 
-- replaces its environment with the variables it is given (``--allow-env``),
-- limits its address space (RLIMIT_AS: what it already maps plus ``memory_mb``), its CPU time,
-  the size of any file it writes (0: it writes none), and on non-root users the processes it
-  may start (0: no ``fork``/``exec``),
-- closes every inherited file descriptor except the result pipe, with stdin/stdout/stderr on
-  ``/dev/null``.
+- xacro and SDF inputs are read, expanded (xacro, YAML) and converted there; the Source comes
+  back as tagged XML with its locations (JSON, never pickle);
+- mesh files (trimesh, pycollada, the STL reader) are summarised there (``meshes.PARSER``);
+- a plain URDF is read here, bounded (a regular file, at most 64 MB: ``source.read_text``),
+  with the secure XML parser; only its meshes go to the child.
 
-The parent reads the result as JSON (never pickle: a child that was subverted cannot run code
-in the parent through it) and kills the child when the wall-time limit passes. Without
-``os.fork`` (Windows) the function runs in-process: the expression validator and the deadline
-still hold, the resource limits do not.
+The child is started with ``python -I``, an environment holding only the ``--allow-env``
+variables (and one-thread settings for the numeric libraries), no inherited descriptors, in a
+session of its own. Before it reads anything it drops its capabilities, sets hard resource
+limits, ``no_new_privs``, Landlock (read-only beneath the package roots and the interpreter's
+own files) and a seccomp filter (no exec, fork, sockets, ptrace, signals to other processes,
+limit changes). Where the kernel lacks Landlock or seccomp, a one-line notice says so. One
+child serves a whole run (per worker process); it is replaced when a file of another package
+needs reading, and killed when a request runs past ``--timeout``.
+
+This module also confines paths: ``package_roots``, ``check_input`` and ``confine`` (URIs that
+resolve outside the package roots resolve to a path under ``REFUSED``, which does not exist).
 """
 
 from __future__ import annotations
@@ -26,13 +33,33 @@ import sys
 import time
 from pathlib import Path
 
-from urdftool.xacro_eval import LimitExceeded
-
+IN_CHILD = False  # set by urdftool.sandbox_child: load() there does the work itself
 GRACE_SECONDS = 1.0  # the child stops itself at the deadline; it is killed this much later
-MAX_RESULT_BYTES = 1 << 30
-
+START_SECONDS = 30.0  # a fresh interpreter importing lxml and xacro, on a loaded machine
+CHILD_CPU_SECONDS = 120  # the child's whole CPU budget (it is replaced at half of it)
+MAX_ANSWER_BYTES = 256 << 20
+# variables the numeric libraries read: one thread each (the filter refuses processes, not
+# threads, but a pool of them is only cost here)
+CHILD_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1",
+             "LC_ALL": "C.UTF-8"}
+# where packages and models are (configuration, not secrets): the child finds packages and
+# models as this process does; xacro's $(env)/$(optenv) still see only --allow-env ones
+PATH_VARIABLES = ("ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH", "GZ_SIM_RESOURCE_PATH",
+                  "IGN_GAZEBO_RESOURCE_PATH", "GAZEBO_MODEL_PATH", "SDF_PATH")
+TEST_SWITCH = "URDFTOOL_SANDBOX_TEST"  # never passed by the CLI, even with --allow-env
 
 REFUSED = Path("/urdftool-untrusted-outside-the-package-roots")
+
+
+class SandboxFailure(Exception):
+    """The child died or sent something that is not an answer."""
+
+
+def available() -> bool:
+    return sys.platform.startswith("linux")
+
+
+# -- where an untrusted input may read ------------------------------------------------------
 
 
 def package_roots(resolver, path: Path) -> list[Path]:
@@ -62,22 +89,24 @@ def inside(path, roots: list[Path]) -> bool:
 
 
 def check_input(path: Path, resolver) -> None:
-    """An untrusted input file itself: a regular file (not a device, FIFO or directory), and
-    inside the package roots (a symlink committed to a repository must not make urdftool read,
-    and quote, a file of the CI machine). Raises ToolError."""
+    """An untrusted input file itself: inside the package roots (a symlink committed to a
+    repository must not make urdftool read, and quote, a file of the CI machine). Raises
+    ToolError. (That it is a regular file of bounded size, ``source.read_text`` checks.)"""
     from urdftool.errors import ToolError
 
-    if not Path(path).is_file():
-        raise ToolError(f"{path}: not a regular file (--untrusted reads only regular files)")
     if not inside(path, package_roots(resolver, path)):
         raise ToolError(f"{path}: links to {Path(path).resolve()}, outside the package roots; "
                         "--untrusted does not follow it")
 
 
-def confine(resolver, path: Path):
+_RUN: dict = {}  # the limits of the untrusted run in this process (set by confine)
+
+
+def confine(resolver, path: Path, options=None):
     """A resolver for an untrusted input: a mesh or resource URI that resolves outside the
     package roots resolves instead to a path under ``REFUSED`` (which does not exist), so the
-    mesh rules report it as missing, with the refusal in the path they name."""
+    mesh rules report it as missing, with the refusal in the path they name. Mesh files are
+    from now on parsed in the sandboxed reader."""
     resolver.confined_roots = package_roots(resolver, path)
     original = resolver.resolve_uri
 
@@ -89,169 +118,422 @@ def confine(resolver, path: Path):
         return REFUSED / resolved.relative_to(resolved.anchor)
 
     resolver.resolve_uri = resolve_uri
+    if not IN_CHILD and available():
+        from urdftool.physics import meshes
+
+        _RUN.update(roots=resolver.confined_roots)
+        if options is not None:
+            _RUN.update(timeout=options.timeout, memory_mb=options.memory_mb,
+                        allow_env=tuple(options.allow_env))
+        meshes.PARSER = parse_mesh
     return resolver
 
 
-class SandboxFailure(Exception):
-    """The child died or sent something that is not a result."""
+# -- the child process ----------------------------------------------------------------------
 
 
-def available() -> bool:
-    return hasattr(os, "fork")
+def _child_env(allow_env: tuple[str, ...], test: bool = False) -> dict[str, str]:
+    env = dict(CHILD_ENV)
+    env.update((name, os.environ[name]) for name in (*PATH_VARIABLES, *allow_env)
+               if name in os.environ and name != TEST_SWITCH)
+    if test:
+        env[TEST_SWITCH] = "1"
+    return env
 
 
-def _vm_bytes() -> int:
+_BOOT = ("import sys; sys.path.insert(0, sys.argv[1]); "
+         "from urdftool.sandbox_child import main; main()")
+
+
+def _cwd() -> str:
+    """The child runs where we run: the paths it is given and the paths it names in its
+    findings are relative to it (Landlock, not the directory, bounds what it reads)."""
     try:
-        with open("/proc/self/status", encoding="ascii") as status:
-            for line in status:
-                if line.startswith("VmSize:"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    return 0
+        return os.getcwd()
+    except OSError:
+        return "/"
 
 
-def _confine(memory_mb: int | None, env: dict[str, str], cpu_seconds: float | None) -> None:
-    """Applied in the child, before it runs anything from the input."""
-    import resource
+class Child:
+    """One sandboxed reader process and its pipes."""
 
-    os.environ.clear()
-    os.environ.update(env)
-    null = os.open(os.devnull, os.O_RDWR)
-    for fd in (0, 1, 2):
-        os.dup2(null, fd)
-    os.close(null)
+    def __init__(self, read: list[Path], memory_mb: int, allow_env: tuple[str, ...] = (),
+                 test: bool = False):
+        import subprocess
 
-    def limit(which, value):
+        self.read = [Path(p) for p in read]
+        self.settings = (int(memory_mb), tuple(allow_env))
+        self.owner = os.getpid()
+        self.buffer = b""
+        package_parent = str(Path(__file__).resolve().parent.parent)
+        started = time.monotonic()
+        self.process = subprocess.Popen(
+            [sys.executable, "-I", "-c", _BOOT, package_parent], stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, close_fds=True,
+            env=_child_env(allow_env, test), cwd=_cwd(), start_new_session=True)
+        setup = {"read": [str(p) for p in self.read], "memory_mb": int(memory_mb),
+                 "cpu_seconds": CHILD_CPU_SECONDS, "test_payload_allowed": test}
+        answer = self._exchange(setup, START_SECONDS, "start")
+        layers = answer.get("layers")
+        if not isinstance(layers, dict):
+            self.close()
+            raise SandboxFailure("the sandboxed reader did not start")
+        self.layers = {str(k): str(v) for k, v in layers.items()}
+        self.start_seconds = time.monotonic() - started
+        _notice(self.layers)
+
+    def covers(self, roots: list[Path]) -> bool:
+        return all(any(Path(r).is_relative_to(p) for p in self.read) for r in roots)
+
+    def alive(self) -> bool:
+        return self.process.poll() is None and self.owner == os.getpid()
+
+    def cpu_seconds(self) -> float:
         try:
-            _, hard = resource.getrlimit(which)
-            if hard != resource.RLIM_INFINITY:
-                value = min(value, hard)
-            resource.setrlimit(which, (value, hard))
-        except (ValueError, OSError):
-            pass
+            with open(f"/proc/{self.process.pid}/stat", encoding="ascii") as stat:
+                fields = stat.read().rsplit(")", 1)[1].split()
+            return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+        except (OSError, ValueError, IndexError):
+            return 0.0
 
-    if memory_mb:
-        used = _vm_bytes()
-        limit(resource.RLIMIT_AS, used + (memory_mb << 20))
-    if cpu_seconds:
-        limit(resource.RLIMIT_CPU, int(cpu_seconds) + 2)
-    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a write fails (EFBIG) rather than kills
-    limit(resource.RLIMIT_FSIZE, 0)
-    limit(resource.RLIMIT_CORE, 0)
-    if hasattr(resource, "RLIMIT_NPROC") and os.geteuid() != 0:
-        limit(resource.RLIMIT_NPROC, 0)
+    def ask(self, request: dict, timeout: float | None, what: str) -> dict:
+        """Send ``request``; its answer, or LimitExceeded/SandboxFailure (the child is then
+        gone: the next request starts another)."""
+        answer = self._exchange(request, timeout, what)
+        if "limit" in answer:
+            from urdftool.xacro_eval import LimitExceeded
 
+            raise LimitExceeded(str(answer["limit"]))
+        if "tool_error" in answer:
+            from urdftool.errors import ToolError
 
-def run_isolated(function, args: tuple, *, timeout: float | None, memory_mb: int | None,
-                 env: dict[str, str]):
-    """``function(*args)`` in a confined child; its return value must be JSON-serialisable.
+            raise ToolError(str(answer["tool_error"]))
+        if "error" in answer:
+            raise SandboxFailure(str(answer["error"]))
+        return answer.get("ok")
 
-    Raises LimitExceeded when the child runs past ``timeout`` (plus a grace second) or runs out
-    of memory, SandboxFailure when it dies otherwise. An exception raised by ``function`` is
-    re-raised as SandboxFailure with its message."""
-    if not available():
-        return function(*args)
-    for stream in (sys.stdout, sys.stderr):
+    def _exchange(self, request: dict, timeout: float | None, what: str) -> dict:
+        from urdftool.xacro_eval import LimitExceeded
+
         try:
-            stream.flush()
-        except Exception:  # noqa: BLE001, S110 - a closed or odd stream: nothing to flush
-            pass
-    read_fd, write_fd = os.pipe()
-    pid = os.fork()
-    if pid == 0:  # the child: never returns
-        code = 70
-        try:
-            os.close(read_fd)
-            _close_inherited(keep={write_fd})
-            _confine(memory_mb, env, timeout)
-            try:
-                payload = {"ok": function(*args)}
-            except MemoryError:
-                payload = {"limit": "out of memory (the memory limit is "
-                                    f"{memory_mb} MB)"}
-            except LimitExceeded as exc:
-                payload = {"limit": str(exc)}
-            except BaseException as exc:  # noqa: BLE001 - reported to the parent
-                payload = {"error": f"{type(exc).__name__}: {exc}"}
-            data = json.dumps(payload).encode("utf-8")
-            view = memoryview(data)
-            while view:
-                written = os.write(write_fd, view)
-                view = view[written:]
-            code = 0
-        except MemoryError:
-            code = 71
-        except BaseException:  # noqa: BLE001 - the parent sees the exit code
-            code = 70
-        finally:
-            os._exit(code)
-    os.close(write_fd)
-    chunks: list[bytes] = []
-    size = 0
-    deadline = time.monotonic() + timeout + GRACE_SECONDS if timeout else None
-    try:
-        while True:
+            self.process.stdin.write(json.dumps(request).encode("utf-8") + b"\n")
+            self.process.stdin.flush()
+        except OSError:
+            self.close()
+            raise SandboxFailure(f"the sandboxed reader is gone ({what})") from None
+        deadline = time.monotonic() + timeout + GRACE_SECONDS if timeout else None
+        out = self.process.stdout.fileno()
+        while b"\n" not in self.buffer:
             remaining = None if deadline is None else deadline - time.monotonic()
             if remaining is not None and remaining <= 0:
-                _kill(pid)
-                raise LimitExceeded(f"xacro expansion took longer than {timeout:g} s "
-                                    "(the child process was stopped)")
-            ready, _, _ = select.select([read_fd], [], [], remaining)
+                self.close()
+                raise LimitExceeded(f"{what} took longer than {timeout:g} s (the sandboxed "
+                                    "reader was stopped; --timeout sets the limit)")
+            ready, _, _ = select.select([out], [], [], remaining)
             if not ready:
                 continue
-            chunk = os.read(read_fd, 1 << 20)
+            chunk = os.read(out, 1 << 20)
             if not chunk:
-                break
-            size += len(chunk)
-            if size > MAX_RESULT_BYTES:
-                _kill(pid)
-                raise LimitExceeded("the expanded document is larger than "
-                                    f"{MAX_RESULT_BYTES >> 20} MB")
-            chunks.append(chunk)
-    finally:
-        os.close(read_fd)
-    _, status = os.waitpid(pid, 0)
-    if not chunks:
-        if os.WIFSIGNALED(status) and os.WTERMSIG(status) in (signal.SIGKILL, signal.SIGXCPU,
-                                                                 signal.SIGSEGV):
-            raise LimitExceeded("xacro expansion ran out of memory or CPU time "
-                                f"(signal {os.WTERMSIG(status)})")
-        if os.WIFEXITED(status) and os.WEXITSTATUS(status) == 71:
-            raise LimitExceeded(f"xacro expansion ran out of memory (limit {memory_mb} MB)")
-        raise SandboxFailure(f"the sandboxed xacro process died (status {status})")
-    try:
-        payload = json.loads(b"".join(chunks))
-    except ValueError:
-        raise SandboxFailure("the sandboxed xacro process sent an unreadable result") from None
-    if not isinstance(payload, dict):
-        raise SandboxFailure("the sandboxed xacro process sent an unreadable result")
-    if "limit" in payload:
-        raise LimitExceeded(str(payload["limit"]))
-    if "error" in payload:
-        raise SandboxFailure(str(payload["error"]))
-    return payload.get("ok")
+                status = self.process.wait()
+                self.close()
+                if status in (-signal.SIGKILL, -signal.SIGXCPU, -signal.SIGSEGV, -signal.SIGABRT):
+                    raise LimitExceeded(f"{what} ran out of memory or CPU time (the sandboxed "
+                                        f"reader died of signal {-status})")
+                raise SandboxFailure(f"the sandboxed reader died ({what}, status {status})")
+            self.buffer += chunk
+            if len(self.buffer) > MAX_ANSWER_BYTES:
+                self.close()
+                raise LimitExceeded(f"{what}: the answer is larger than "
+                                    f"{MAX_ANSWER_BYTES >> 20} MB")
+        line, _, self.buffer = self.buffer.partition(b"\n")
+        try:
+            answer = json.loads(line)
+        except ValueError:
+            answer = None
+        if not isinstance(answer, dict):
+            self.close()
+            raise SandboxFailure(f"the sandboxed reader sent an unreadable answer ({what})")
+        return answer
 
-
-def _close_inherited(keep: set[int]) -> None:
-    try:
-        fds = [int(name) for name in os.listdir("/proc/self/fd")]
-    except (OSError, ValueError):
-        fds = list(range(3, 1024))
-    for fd in fds:
-        if fd > 2 and fd not in keep:
+    def close(self) -> None:
+        if self.owner != os.getpid():  # a forked worker's copy: the parent's child, not ours
+            return
+        if self.process.poll() is None:
             try:
-                os.close(fd)
+                os.killpg(self.process.pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                self.process.kill()
+        for stream in (self.process.stdin, self.process.stdout):
+            try:
+                stream.close()
             except OSError:
                 pass
+        self.process.wait()
 
 
-def _kill(pid: int) -> None:
+_CHILD: list[Child] = []  # this process's reader (a forked worker starts its own)
+
+
+def _child(roots: list[Path]) -> Child:
+    current = _CHILD[0] if _CHILD else None
+    settings = (int(_RUN.get("memory_mb", 1024)), tuple(_RUN.get("allow_env", ())))
+    if current is not None and current.alive() and current.covers(roots) \
+            and current.settings == settings and current.cpu_seconds() < CHILD_CPU_SECONDS / 2:
+        return current
+    read = list(roots)
+    if current is not None:
+        if current.owner == os.getpid() and current.settings == settings:
+            read += [p for p in current.read if not any(p.is_relative_to(r) for r in roots)]
+        current.close()
+        _CHILD.clear()
+    child = Child(read, *settings)
+    _CHILD[:] = [child]
+    return child
+
+
+def _close_children() -> None:
+    for child in _CHILD:
+        child.close()
+
+
+import atexit
+
+atexit.register(_close_children)
+
+_NOTICED: set[str] = set()
+
+
+def _notice(layers: dict[str, str]) -> None:
+    """One line on stderr per missing layer and process: degraded, never in silence."""
+    for layer, state in layers.items():
+        if state.startswith("off") and layer not in _NOTICED:
+            _NOTICED.add(layer)
+            sys.stderr.write(f"urdftool: note: --untrusted without {layer} ({state[4:].strip()}); "
+                             "the other layers still hold (urdftool doctor lists them)\n")
+
+
+# -- requests -------------------------------------------------------------------------------
+
+
+def load_source(path: Path, options, resolver, kind: str):
+    """A xacro or SDF input read, expanded and converted in the sandboxed reader."""
+    from urdftool.model import Loc
+    from urdftool.report import Finding
+    from urdftool.xacro_eval import LimitExceeded
+    from urdftool.source import Source
+
+    _RUN.update(timeout=options.timeout, memory_mb=options.memory_mb,
+                allow_env=tuple(options.allow_env))
+    request = {"op": "load", "path": os.fspath(path), "packages": dict(options.packages),
+               "xacro_args": dict(options.xacro_args), "sdf_model": options.sdf_model,
+               "sdf_model_paths": list(options.sdf_model_paths),
+               "allow_env": list(options.allow_env), "timeout": options.timeout}
+    what = "xacro expansion" if kind == "xacro" else "SDF reading"
+    rule = "xacro" if kind == "xacro" else "sdf"
+    model_paths = [*options.sdf_model_paths,
+                   *(entry for name in PATH_VARIABLES[2:]
+                     for entry in os.environ.get(name, "").split(os.pathsep) if entry)]
+    read = [*resolver.confined_roots, *(Path(p).resolve() for p in model_paths)]
     try:
-        os.kill(pid, signal.SIGKILL)
-    except ProcessLookupError:
-        pass
+        answer = _child(read).ask(request, options.timeout, what)
+        source = source_from_json(answer, str(path))
+    except LimitExceeded as exc:
+        source = Source(str(path), kind)
+        source.add(f"{rule}.limit-exceeded" if rule == "xacro" else "sdf.invalid",
+                   Finding(f"{kind}: {exc}; reading stopped", Loc(str(path), None, None)))
+    except SandboxFailure as exc:
+        source = Source(str(path), kind)
+        source.add(f"{rule}.error" if rule == "xacro" else "sdf.invalid",
+                   Finding(f"{kind}: {exc}", Loc(str(path), None, None)))
+    source.resolver = resolver
+    return source
+
+
+def convert_in_child(path: Path, options, load, resolver):
+    """``urdftool convert`` of an untrusted SDF file, in the sandboxed reader: (Source, why
+    the conversion was refused or None, why no model could be chosen or None)."""
+    from urdftool.xacro_eval import LimitExceeded
+
+    _RUN.update(timeout=load.timeout, memory_mb=load.memory_mb, allow_env=tuple(load.allow_env))
+    request = {"op": "convert", "path": os.fspath(path), "packages": dict(load.packages),
+               "model": options.model, "model_paths": list(options.model_paths),
+               "package_uris": list(options.package_uris),
+               "output_dir": os.fspath(options.output_dir), "cut_loops": options.cut_loops}
+    read = [*resolver.confined_roots, *(Path(p).resolve() for p in options.model_paths)]
     try:
-        os.waitpid(pid, 0)
-    except ChildProcessError:
-        pass
+        answer = _child(read).ask(request, load.timeout, "SDF conversion")
+        source = source_from_json(answer["source"], str(path))
+        refused, choice = answer["refused"], answer["choice"]
+        if not (refused is None or isinstance(refused, str)) \
+                or not (choice is None or isinstance(choice, str)):
+            raise SandboxFailure("malformed answer from the sandboxed reader")
+    except (LimitExceeded, SandboxFailure, KeyError, TypeError) as exc:
+        from urdftool.errors import ToolError
+
+        raise ToolError(f"{path}: cannot convert: {exc}") from None
+    source.resolver = resolver
+    return source, refused, choice
+
+
+def parse_mesh(path: Path, need_volume: bool):
+    """``meshes._load`` in the sandboxed reader (``meshes.PARSER`` under ``--untrusted``)."""
+    from urdftool.physics import meshes
+    from urdftool.xacro_eval import LimitExceeded
+
+    roots = _RUN.get("roots") or [Path(path).resolve().parent]
+    if not inside(path, roots):
+        roots = [*roots, Path(path).resolve().parent]
+    try:
+        answer = _child(roots).ask({"op": "mesh", "path": os.fspath(path),
+                                    "need_volume": need_volume}, _RUN.get("timeout", 5.0),
+                                   f"reading mesh {Path(path).name}")
+        import numpy as np
+
+        header, hull = answer["header"], answer["hull"]
+        if not isinstance(header, dict) or not isinstance(hull, list) \
+                or not all(type(x) is float for x in hull):
+            raise SandboxFailure("malformed mesh summary")
+        info = meshes._decode(Path(path), (header, np.array(hull, dtype=float)))
+        if info is None:
+            raise SandboxFailure("malformed mesh summary")
+        return info
+    except (LimitExceeded, SandboxFailure, KeyError, TypeError) as exc:
+        return meshes.MeshInfo(str(path), error=f"{meshes.TRANSIENT}{exc}")
+
+
+# -- a Source as JSON (the child's answer to ``load``) --------------------------------------
+
+_LOC_INDEX = "urdftool-sandbox-loc"
+
+
+def _loc_json(loc):
+    return None if loc is None else [loc.path, loc.line, loc.column, loc.element,
+                                     list(loc.via)]
+
+
+def source_to_json(source) -> dict:
+    """In the child: the Source as JSON, its tree as XML with each element's location index in
+    an attribute."""
+    from lxml import etree
+
+    locs = []
+    text = None
+    if source.root is not None:
+        for element in source.root.iter():
+            if not isinstance(element.tag, str):
+                continue
+            element.attrib.pop(_LOC_INDEX, None)
+            if element in source.locs:
+                element.set(_LOC_INDEX, str(len(locs)))
+                locs.append(_loc_json(source.locs[element]))
+        text = etree.tostring(source.root, encoding="unicode")
+    return {"kind": source.kind, "root": text, "locs": locs, "texts": source.texts,
+            "problems": [[rule, f.message, _loc_json(f.loc), f.hint, f.severity]
+                         for rule, f in source.problems]}
+
+
+def source_from_json(data, path: str):
+    """In the parent: the child's Source, checked field by field (it is data from a process
+    that read an untrusted file); its XML is read with the secure parser."""
+    from lxml import etree
+
+    from urdftool.model import Loc
+    from urdftool.report import Finding
+    from urdftool.source import Source, _utf8_bytes
+    from urdftool.xmlrepair import secure_parser
+
+    bad = SandboxFailure("malformed answer from the sandboxed reader")
+
+    def text(value, optional=True):
+        if (value is None and optional) or isinstance(value, str):
+            return value
+        raise bad
+
+    def number(value):
+        if value is None or (isinstance(value, int) and not isinstance(value, bool)):
+            return value
+        raise bad
+
+    def loc(value):
+        if value is None:
+            return None
+        where, line, column, element, via = value
+        return Loc(text(where, False), number(line), number(column), text(element),
+                   tuple(text(v, False) for v in via))
+
+    try:
+        if data.get("kind") not in ("xacro", "sdf", "urdf"):
+            raise bad
+        source = Source(path, data["kind"], texts={text(k, False): text(v, False)
+                                                   for k, v in data["texts"].items()})
+        for rule, message, where, hint, severity in data["problems"]:
+            source.add(text(rule, False), Finding(text(message, False), loc(where), text(hint),
+                                                  text(severity)))
+        locs = [loc(value) for value in data["locs"]]
+        xml = text(data["root"])
+    except (KeyError, TypeError, ValueError, AttributeError):
+        raise bad from None
+    if xml is None:
+        return source
+    try:
+        root = etree.fromstring(_utf8_bytes(xml), secure_parser())
+    except etree.XMLSyntaxError as exc:
+        source.add("xacro.limit-exceeded" if source.kind == "xacro" else "sdf.invalid", Finding(
+            f"the document read cannot be read back ({exc.msg}); nested too deeply or too "
+            "large", Loc(path, None, None)))
+        return source
+    for element in root.iter():
+        if not isinstance(element.tag, str):
+            continue
+        index = element.attrib.pop(_LOC_INDEX, None)
+        if index is not None and index.isdigit() and int(index) < len(locs):
+            source.locs[element] = locs[int(index)]
+    source.root = root
+    return source
+
+
+# -- what holds here (urdftool doctor) and the tests' way in --------------------------------
+
+
+def layers() -> dict[str, str]:
+    """The layers a sandboxed reader gets on this machine (starts one)."""
+    if not available():
+        return {"sandbox": f"off: {sys.platform} is not Linux; --untrusted reads in-process"}
+    child = Child([], 1024)
+    try:
+        return dict(child.layers)
+    finally:
+        child.close()
+
+
+def run_test_payload(code: str, read: list[Path], memory_mb: int = 1024,
+                     allow_env: tuple[str, ...] = ()) -> dict:
+    """Tests only: run Python ``code`` inside a confined reader (exactly the CLI's, plus a
+    switch in its environment that no CLI option sets) and return ``{"layers": ...,
+    "result"|"error": ...}``: the sandbox attacked without going through the xacro
+    interpreter."""
+    child = Child(read, memory_mb, allow_env, test=True)
+    try:
+        child.process.stdin.write(json.dumps(code).encode("utf-8") + b"\n")
+        child.process.stdin.flush()
+        answer = _read_answer(child)
+        return {"layers": child.layers, **answer}
+    finally:
+        child.close()
+
+
+def _read_answer(child: Child) -> dict:
+    deadline = time.monotonic() + 30.0
+    out = child.process.stdout.fileno()
+    while b"\n" not in child.buffer and time.monotonic() < deadline:
+        ready, _, _ = select.select([out], [], [], max(0.0, deadline - time.monotonic()))
+        if ready:
+            chunk = os.read(out, 1 << 20)
+            if not chunk:
+                break
+            child.buffer += chunk
+    line = child.buffer.partition(b"\n")[0]
+    try:
+        return json.loads(line)
+    except ValueError:
+        return {"error": f"no answer (status {child.process.poll()})"}

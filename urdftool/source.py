@@ -159,15 +159,43 @@ def detect_kind(path: Path, text: str) -> str:
     return "urdf"
 
 
-def read_text(path: Path) -> str:
-    """Read a file as text: UTF-8, or UTF-16/32 with a BOM. Raises ToolError on anything else.
-    An encoding declaration is rewritten to UTF-8 (the text is decoded now), lines unchanged."""
+MAX_FILE_BYTES = 64 << 20  # a robot description file larger than this is refused unread
+
+
+def read_bytes(path: Path) -> bytes:
+    """A regular file's bytes, at most MAX_FILE_BYTES. A device, FIFO or directory (a
+    committed symlink to /dev/zero, say) or a larger file is a ToolError, found before reading
+    (opened without blocking, then checked on the open descriptor: no race with a rename)."""
+    import stat
+
     try:
-        data = path.read_bytes()
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
     except IsADirectoryError:
         raise ToolError(f"{path}: is a directory") from None
     except OSError as exc:
         raise ToolError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    with open(fd, "rb", closefd=True) as handle:
+        info = os.fstat(fd)
+        if stat.S_ISDIR(info.st_mode):
+            raise ToolError(f"{path}: is a directory")
+        if not stat.S_ISREG(info.st_mode):
+            raise ToolError(f"{path}: not a regular file (a device, FIFO or socket): not read")
+        if info.st_size > MAX_FILE_BYTES:
+            raise ToolError(f"{path}: {info.st_size >> 20} MB, larger than the "
+                            f"{MAX_FILE_BYTES >> 20} MB a robot description may have: not read")
+        try:
+            data = handle.read(MAX_FILE_BYTES + 1)
+        except OSError as exc:
+            raise ToolError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    if len(data) > MAX_FILE_BYTES:  # grew while we read
+        raise ToolError(f"{path}: larger than {MAX_FILE_BYTES >> 20} MB: not read")
+    return data
+
+
+def read_text(path: Path) -> str:
+    """Read a file as text: UTF-8, or UTF-16/32 with a BOM. Raises ToolError on anything else.
+    An encoding declaration is rewritten to UTF-8 (the text is decoded now), lines unchanged."""
+    data = read_bytes(path)
     for bom, encoding in ((codecs.BOM_UTF32_LE, "utf-32"), (codecs.BOM_UTF32_BE, "utf-32"),
                           (codecs.BOM_UTF8, "utf-8-sig"), (codecs.BOM_UTF16_LE, "utf-16"),
                           (codecs.BOM_UTF16_BE, "utf-16")):
@@ -227,13 +255,16 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
     if not file_path.exists():
         raise ToolError(f"{path}: no such file")
     resolver = PackageResolver(options.packages, file_path)
-    if options.untrusted:  # issue 8: regular files inside the package roots only
-        from urdftool.sandbox import check_input, confine
+    if options.untrusted:  # inside the package roots only; parsing in the sandbox
+        from urdftool import sandbox
 
-        check_input(file_path, resolver)
-        confine(resolver, file_path)
+        sandbox.check_input(file_path, resolver)
+        sandbox.confine(resolver, file_path, options)
     text = read_text(file_path)
     kind = detect_kind(file_path, text)
+    if options.untrusted and kind != "urdf" and text.strip() and not sandbox.IN_CHILD \
+            and sandbox.available():  # xacro, YAML, SDF: read in the sandboxed reader
+        return sandbox.load_source(file_path, options, resolver, kind)
     source = Source(str(path), kind, texts={str(path): text}, resolver=resolver)
     if not text.strip():
         parse_text(text, str(path), source)  # reports xml.no-root

@@ -393,53 +393,6 @@ def _one_line(rule: str, finding: Finding) -> tuple[str, Finding]:
     return rule, Finding(message, finding.loc, finding.hint, finding.severity)
 
 
-def _to_json(expansion: Expansion) -> dict:
-    def loc(value: Loc | None):
-        return None if value is None else [value.path, value.line, value.column, value.element,
-                                            list(value.via)]
-
-    return {"text": expansion.text, "files": expansion.files, "texts": expansion.texts,
-            "problems": [[rule, f.message, loc(f.loc), f.hint, f.severity]
-                         for rule, f in expansion.problems]}
-
-
-def _from_json(data) -> Expansion:
-    """The child's answer, checked field by field (it is data from a process that read an
-    untrusted file)."""
-    from urdftool.sandbox import SandboxFailure
-
-    def text(value, optional=True):
-        if value is None and optional:
-            return None
-        if not isinstance(value, str):
-            raise SandboxFailure("malformed result from the sandboxed xacro process")
-        return value
-
-    def number(value):
-        if value is None or (isinstance(value, int) and not isinstance(value, bool)):
-            return value
-        raise SandboxFailure("malformed result from the sandboxed xacro process")
-
-    try:
-        problems = []
-        for rule, message, loc, hint, severity in data["problems"]:
-            where = None
-            if loc is not None:
-                path, line, column, element, via = loc
-                where = Loc(text(path, False), number(line), number(column), text(element),
-                            tuple(text(v, False) for v in via))
-            problems.append((text(rule, False), Finding(text(message, False), where, text(hint),
-                                                        text(severity))))
-        return Expansion(text(data["text"]), [text(f, False) for f in data["files"]], problems,
-                         {text(k, False): text(v, False) for k, v in data["texts"].items()})
-    except (KeyError, TypeError, ValueError, AttributeError):
-        raise SandboxFailure("malformed result from the sandboxed xacro process") from None
-
-
-def _xacro_pass_json(source: Source, path: Path, options: LoadOptions, policy: _Policy) -> dict:
-    return _to_json(_xacro_pass(source, path, options, policy))
-
-
 def expand(source: Source, path: Path, options: LoadOptions) -> None:
     """Expand ``path`` into ``source.root`` with locations in ``source.locs``; xacro errors
     become ``xacro.*`` problems at the line where they happened. With ``options.untrusted``
@@ -447,29 +400,14 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
     timeout = getattr(options, "timeout", None)
     untrusted = getattr(options, "untrusted", False)
     deadline = time.monotonic() + timeout if timeout else None
-    if untrusted:
-        from urdftool.sandbox import SandboxFailure, run_isolated
-        from urdftool.xacro_eval import LimitExceeded
-
+    if untrusted:  # in the sandboxed reader (urdftool.sandbox): files and variables confined
         roots = source.resolver.confined_roots if source.resolver is not None else None
         if roots is None:
             from urdftool.sandbox import package_roots
 
             roots = package_roots(source.resolver, path)
-        policy = _Policy(deadline, roots, frozenset(options.allow_env))
-        env = {name: os.environ[name] for name in options.allow_env if name in os.environ}
-        try:
-            result = _from_json(run_isolated(_xacro_pass_json, (source, path, options, policy),
-                                             timeout=timeout, memory_mb=options.memory_mb,
-                                             env=env))
-        except LimitExceeded as exc:
-            source.add(*_one_line("xacro.limit-exceeded", Finding(
-                f"xacro: {exc}; expansion stopped", Loc(source.path, None, None))))
-            return
-        except SandboxFailure as exc:
-            source.add(*_one_line("xacro.error", Finding(f"xacro: {exc}",
-                                                         Loc(source.path, None, None))))
-            return
+        result = _xacro_pass(source, path, options,
+                             _Policy(deadline, roots, frozenset(options.allow_env)))
     else:
         result = _xacro_pass(source, path, options, _Policy(deadline))
     source.problems.extend(result.problems)

@@ -60,25 +60,30 @@ def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, 
     load = load_options(packages, {})
     resolver = PackageResolver(load.packages, path)
     if load.untrusted:  # includes and meshes only inside the package roots
-        from urdftool.sandbox import check_input, confine
+        from urdftool import sandbox
 
-        check_input(path, resolver)
-        confine(resolver, path)
+        sandbox.check_input(path, resolver)
+        sandbox.confine(resolver, path, load)
     text = read_text(path)
     if detect_kind(path, text) != "sdf":
         raise ToolError(f"{path}: not an SDFormat file (no <sdf> element)")
-    source = Source(str(path), "sdf", texts={str(path): text}, resolver=resolver)
     output_dir = Path(output).resolve().parent if output and output != "-" else path.resolve().parent
     options = ConvertOptions(model=model, model_paths=list(model_paths),
                              package_uris=list(package_uris), output_dir=output_dir,
                              cut_loops=not no_cut, require_choice=True)
     refused = None
-    try:
-        convert_source(source, path, text, options)
-    except ModelChoiceError as exc:
-        raise ToolError(f"{path}: {exc}") from None
-    except LoopRefused as exc:
-        refused = str(exc)
+    if load.untrusted and sandbox.available():  # read and converted in the sandboxed reader
+        source, refused, choice = sandbox.convert_in_child(path, options, load, resolver)
+        if choice is not None:
+            raise ToolError(f"{path}: {choice}")
+    else:
+        source = Source(str(path), "sdf", texts={str(path): text}, resolver=resolver)
+        try:
+            convert_source(source, path, text, options)
+        except ModelChoiceError as exc:
+            raise ToolError(f"{path}: {exc}") from None
+        except LoopRefused as exc:
+            refused = str(exc)
     registry = load_all()
     problems = []
     for rule_id, finding in source.problems:

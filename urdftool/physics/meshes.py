@@ -28,6 +28,12 @@ _UP_ROTATIONS = {b"Y": ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0)),
                  b"X": ((0.0, 0.0, -1.0), (0.0, 1.0, 0.0), (1.0, 0.0, 0.0))}
 
 LOADS = 0  # how many files were actually read (cache misses)
+# parses a file (path, need_volume) -> MeshInfo instead of this process: set by
+# urdftool.sandbox under --untrusted (the sandboxed reader runs ``_load``)
+PARSER = None
+MAX_MESH_BYTES = 64 << 20  # a mesh file, or what a compressed one (.zae, .3mf) unpacks to
+MAX_TRIANGLES = 5_000_000
+TRANSIENT = "sandboxed reader: "  # an error of the reader, not of the file: never stored
 _CACHE: dict[str, MeshInfo] = {}
 _TRIMESH: bool | None = None  # trimesh_available(), found once
 
@@ -133,7 +139,8 @@ def _stored_or_load(path: Path, need_volume: bool) -> MeshInfo:
     if stored is not None and (stored.has_volume or not need_volume or not stored.ok):
         return stored
     info = _load(path, need_volume)
-    cache.write("mesh", key, *_encode(info))
+    if not (info.error or "").startswith(TRANSIENT):
+        cache.write("mesh", key, *_encode(info))
     return info
 
 
@@ -209,8 +216,11 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
     import numpy as np
 
     LOADS += 1
+    if PARSER is not None:
+        return PARSER(path, need_volume)
     with _LibraryLog() as log:
         try:
+            _check_size(path)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 triangles = _read(path)
@@ -218,6 +228,9 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
             return MeshInfo(str(path), error=_one_line(f"{type(exc).__name__}: {exc}"))
         if triangles is None:
             return MeshInfo(str(path), error="no triangles in it" + log.cause())
+        if len(triangles[1]) > MAX_TRIANGLES:
+            return MeshInfo(str(path), error=f"{len(triangles[1])} triangles, more than the "
+                                             f"{MAX_TRIANGLES} urdftool reads")
         with warnings.catch_warnings(), np.errstate(all="ignore"):
             warnings.simplefilter("ignore")
             return _summarise(path, *triangles, need_volume)
@@ -264,6 +277,27 @@ class _LibraryLog:
 
     def cause(self) -> str:
         return f" ({self.messages[0]})" if self.messages and self.messages[0] else ""
+
+
+class TooLarge(Exception):
+    pass
+
+
+def _check_size(path: Path) -> None:
+    """Refuse, before parsing, a file over MAX_MESH_BYTES and an archive (.zae, .3mf) whose
+    members unpack to more (the sizes its directory declares: Python's zipfile stops at them)."""
+    size = path.stat().st_size
+    if size > MAX_MESH_BYTES:
+        raise TooLarge(f"{size >> 20} MB, larger than the {MAX_MESH_BYTES >> 20} MB urdftool "
+                       "reads")
+    if path.suffix.lower() in (".zae", ".3mf"):
+        import zipfile
+
+        with zipfile.ZipFile(path) as archive:
+            unpacked = sum(member.file_size for member in archive.infolist())
+        if unpacked > MAX_MESH_BYTES:
+            raise TooLarge(f"unpacks to {unpacked >> 20} MB, more than the "
+                           f"{MAX_MESH_BYTES >> 20} MB urdftool reads")
 
 
 def _read(path: Path):

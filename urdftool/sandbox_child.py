@@ -1,0 +1,330 @@
+"""The sandboxed reader: a fresh interpreter (``python -I``, started by ``urdftool.sandbox`` with
+a near-empty environment) that reads untrusted files and answers in JSON.
+
+Protocol, one JSON document per line: the parent's first line gives the confinement (the
+directories the child may read, its memory and CPU limits); the child confines itself (see
+``confine``) and answers with the layers it holds; then each request line gets one answer line.
+Requests: ``load`` (a xacro or SDF file into a Source, sent back as tagged XML and its
+locations), ``convert`` (``urdftool convert`` of an SDF file) and ``mesh`` (a mesh file's
+summary). The child never receives or sends pickle, and
+nothing in it outlives its run.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+
+MAX_REQUEST_BYTES = 1 << 20
+LIBRARY_PRELOAD = ("lxml.etree", "yaml", "xacro", "urdftool.source", "urdftool.xacro_expand",
+                   "urdftool.sdf")
+
+# errno values (the errno module is tiny, but these are all we need)
+EPERM, ENOSYS = 1, 38
+CLONE_THREAD = 0x00010000
+
+DENIED_SYSCALLS = (
+    # no new programs, no new processes (threads are allowed: see the clone rule)
+    "execve", "execveat", "fork", "vfork",
+    # no network, no local sockets
+    "socket", "socketpair", "connect", "bind", "listen", "accept", "accept4",
+    # no looking into or signalling other processes
+    "ptrace", "process_vm_readv", "process_vm_writev", "tkill", "rt_sigqueueinfo",
+    "pidfd_open", "pidfd_getfd", "pidfd_send_signal", "kcmp",
+    # the limits and the identity stay as set
+    "setrlimit", "setuid", "setgid", "setreuid", "setregid", "setresuid", "setresgid",
+    "setgroups", "setfsuid", "setfsgid", "capset",
+    # no new namespaces, mounts, kernel objects that bypass the filter
+    "unshare", "setns", "mount", "umount2", "pivot_root", "chroot", "io_uring_setup",
+    "io_uring_enter", "io_uring_register", "bpf", "perf_event_open", "userfaultfd", "keyctl",
+    "add_key", "request_key", "init_module", "finit_module", "delete_module", "kexec_load",
+    "kexec_file_load", "reboot", "swapon", "swapoff", "open_by_handle_at",
+    "name_to_handle_at", "mount_setattr", "fsopen", "fsmount", "fspick", "move_mount",
+    "open_tree", "quotactl", "acct", "settimeofday", "clock_settime", "sethostname",
+    "setdomainname", "iopl", "ioperm",
+)
+
+
+def _set_limits(memory_mb: int, cpu_seconds: int, nofile: int) -> dict[str, int]:
+    """Hard limits (soft = hard): a process can only lower them (and, without
+    CAP_SYS_RESOURCE, which ``_drop_capabilities`` removes from root, never raise them)."""
+    import resource
+    import signal
+
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a write fails (EFBIG) rather than kills
+    wanted = {"RLIMIT_AS": memory_mb << 20, "RLIMIT_CPU": cpu_seconds, "RLIMIT_FSIZE": 0,
+              "RLIMIT_NOFILE": nofile, "RLIMIT_NPROC": 0, "RLIMIT_CORE": 0}
+    applied = {}
+    for name, value in wanted.items():
+        which = getattr(resource, name, None)
+        if which is None:
+            continue
+        _, hard = resource.getrlimit(which)
+        if hard != resource.RLIM_INFINITY:
+            value = min(value, hard)
+        resource.setrlimit(which, (value, value))
+        applied[name] = value
+    return applied
+
+
+def _drop_capabilities() -> None:
+    """Empty effective, permitted and inheritable capability sets (matters when run as root,
+    as CI runners often are: CAP_SYS_RESOURCE could raise a hard limit, CAP_SYS_PTRACE read
+    another process's memory)."""
+    import ctypes
+
+    class Header(ctypes.Structure):
+        _fields_ = [("version", ctypes.c_uint32), ("pid", ctypes.c_int)]
+
+    class Data(ctypes.Structure):
+        _fields_ = [("effective", ctypes.c_uint32), ("permitted", ctypes.c_uint32),
+                    ("inheritable", ctypes.c_uint32)]
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    header = Header(0x20080522, 0)  # _LINUX_CAPABILITY_VERSION_3: two Data structures
+    data = (Data * 2)()
+    if libc.capset(ctypes.byref(header), data) != 0:
+        raise OSError(ctypes.get_errno(), "capset")
+
+
+def _no_new_privs() -> None:
+    import ctypes
+
+    libc = ctypes.CDLL(None, use_errno=True)
+    if libc.prctl(38, 1, 0, 0, 0) != 0:  # PR_SET_NO_NEW_PRIVS
+        raise OSError(ctypes.get_errno(), "prctl(PR_SET_NO_NEW_PRIVS)")
+
+
+def _landlock(read: list[str]) -> str:
+    """Read-only access beneath ``read``, nothing else (no write, create, remove, execute)
+    anywhere. Returns the ABI version used; raises when the kernel has no Landlock."""
+    import landlock
+
+    abi = landlock.landlock_abi_version()
+    ruleset = landlock.Ruleset()  # handles every file-system access the ABI knows
+    allowed = landlock.FSAccess.READ_FILE | landlock.FSAccess.READ_DIR
+    for directory in read:
+        if os.path.exists(directory):
+            ruleset.allow(directory, rules=allowed if os.path.isdir(directory)
+                          else landlock.FSAccess.READ_FILE)
+    ruleset.apply()
+    return f"abi {abi}"
+
+
+def _seccomp() -> str:
+    """A filter that refuses (EPERM) the calls in DENIED_SYSCALLS, a clone that is not a
+    thread (fork by another name), signals to any other process, and setting a resource
+    limit; clone3 answers ENOSYS so that the C library falls back to clone, which the filter
+    can inspect."""
+    import pyseccomp as seccomp
+
+    me = os.getpid()
+    denied = seccomp.ERRNO(EPERM)
+    rules = seccomp.SyscallFilter(defaction=seccomp.ALLOW)
+    for name in DENIED_SYSCALLS:
+        try:
+            rules.add_rule(denied, name)
+        except (OSError, ValueError, RuntimeError):  # a call this architecture does not have
+            continue
+    rules.add_rule(denied, "clone", seccomp.Arg(0, seccomp.MASKED_EQ, CLONE_THREAD, 0))
+    rules.add_rule(seccomp.ERRNO(ENOSYS), "clone3")
+    rules.add_rule(denied, "kill", seccomp.Arg(0, seccomp.NE, me))
+    rules.add_rule(denied, "tgkill", seccomp.Arg(0, seccomp.NE, me))
+    rules.add_rule(denied, "rt_tgsigqueueinfo", seccomp.Arg(0, seccomp.NE, me))
+    rules.add_rule(denied, "prlimit64", seccomp.Arg(2, seccomp.NE, 0))  # reading is fine
+    rules.load()
+    return "denylist"
+
+
+# the dynamic loader's files: extension modules load system libraries (libstdc++...) on import
+SYSTEM_LIBRARIES = ("/lib", "/lib64", "/usr/lib", "/usr/lib64", "/usr/local/lib",
+                    "/etc/ld.so.cache")
+
+
+def interpreter_paths() -> list[str]:
+    """What the interpreter reads to import modules: the standard library, site-packages,
+    urdftool's own package (not the current directory: ``-I`` leaves it out) and the system's
+    shared libraries."""
+    import urdftool
+
+    paths = {sys.prefix, sys.base_prefix, sys.exec_prefix, sys.base_exec_prefix,
+             os.path.dirname(os.path.abspath(urdftool.__file__)), *SYSTEM_LIBRARIES}
+    paths.update(entry for entry in sys.path if entry and os.path.isabs(entry))
+    return sorted(p for p in paths if os.path.exists(p))
+
+
+def confine(read: list[str], memory_mb: int, cpu_seconds: int) -> dict[str, str]:
+    """Everything this process may do from now on: read the directories ``read`` and the
+    interpreter's files, nothing else. Returns each layer and what it holds ("off: why" where
+    the kernel or the system lacks it)."""
+    layers: dict[str, str] = {}
+    modules = {}
+    for name in ("landlock", "pyseccomp"):  # imported before any limit: pyseccomp runs
+        try:                                 # ldconfig to find libseccomp
+            modules[name] = __import__(name)
+        except Exception as exc:  # noqa: BLE001 - not installed, or no libseccomp: said below
+            modules[name] = exc
+    try:
+        _drop_capabilities()
+        layers["capabilities"] = "dropped"
+    except (OSError, AttributeError) as exc:
+        layers["capabilities"] = f"off: {exc}"
+    limits = _set_limits(memory_mb, cpu_seconds, nofile=64)
+    layers["rlimits"] = (f"hard: address space {limits.get('RLIMIT_AS', 0) >> 20} MB, CPU "
+                         f"{limits.get('RLIMIT_CPU')} s, file size 0, 64 files, 0 processes")
+    _no_new_privs()
+    layers["no_new_privs"] = "on"
+    try:
+        if isinstance(modules["landlock"], Exception):
+            raise modules["landlock"]
+        layers["landlock"] = _landlock([*read, *interpreter_paths()])
+    except Exception as exc:  # noqa: BLE001 - an old kernel or no landlock module: said
+        layers["landlock"] = f"off: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}"
+    try:
+        if isinstance(modules["pyseccomp"], Exception):
+            raise modules["pyseccomp"]
+        layers["seccomp"] = _seccomp()
+    except Exception as exc:  # noqa: BLE001 - no libseccomp, or a kernel without seccomp
+        layers["seccomp"] = f"off: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}"
+    return layers
+
+
+# -- requests -------------------------------------------------------------------------------
+
+
+def _load(request: dict) -> dict:
+    from pathlib import Path
+
+    from urdftool import sandbox
+    from urdftool.source import LoadOptions, load
+
+    options = LoadOptions(request["packages"], request["xacro_args"],
+                          sdf_model=request.get("sdf_model"),
+                          sdf_model_paths=request.get("sdf_model_paths") or [], untrusted=True,
+                          allow_env=tuple(request["allow_env"]), timeout=request["timeout"])
+    source = load(Path(request["path"]), options)
+    return sandbox.source_to_json(source)
+
+
+def _convert(request: dict) -> dict:
+    """``urdftool convert`` of an untrusted SDF file: the Source, and why the conversion was
+    refused (a loop with --no-cut) or could not choose a model."""
+    from pathlib import Path
+
+    from urdftool import sandbox
+    from urdftool.packages import PackageResolver
+    from urdftool.sdf import ConvertOptions, LoopRefused, ModelChoiceError, convert_source
+    from urdftool.source import Source, read_text
+
+    path = Path(request["path"])
+    resolver = PackageResolver(request["packages"], path)
+    sandbox.confine(resolver, path)
+    text = read_text(path)
+    source = Source(str(path), "sdf", texts={str(path): text}, resolver=resolver)
+    options = ConvertOptions(model=request["model"], model_paths=request["model_paths"],
+                             package_uris=request["package_uris"],
+                             output_dir=Path(request["output_dir"]),
+                             cut_loops=request["cut_loops"], require_choice=True)
+    refused = choice = None
+    try:
+        convert_source(source, path, text, options)
+    except ModelChoiceError as exc:
+        choice = str(exc)
+    except LoopRefused as exc:
+        refused = str(exc)
+    return {"source": sandbox.source_to_json(source), "refused": refused, "choice": choice}
+
+
+def _mesh(request: dict) -> dict:
+    from pathlib import Path
+
+    from urdftool.physics import meshes
+
+    info = meshes._load(Path(request["path"]), request["need_volume"])
+    if info.error:  # one line (an ImportError's text is a page)
+        info = meshes.MeshInfo(info.path, error="; ".join(
+            line.strip() for line in info.error.splitlines() if line.strip())[:500])
+    header, hull = meshes._encode(info)
+    return {"header": header, "hull": [float(x) for x in hull.reshape(-1)]}
+
+
+def _answer(request) -> dict:
+    from urdftool.errors import ToolError
+    from urdftool.xacro_eval import LimitExceeded
+
+    try:
+        if not isinstance(request, dict):
+            return {"error": "a request is a JSON object"}
+        op = request.get("op")
+        if op == "load":
+            return {"ok": _load(request)}
+        if op == "mesh":
+            return {"ok": _mesh(request)}
+        if op == "convert":
+            return {"ok": _convert(request)}
+        return {"error": f"unknown request {op!r}"}
+    except ToolError as exc:
+        return {"tool_error": str(exc)}
+    except MemoryError:
+        return {"limit": "out of memory"}
+    except (LimitExceeded, RecursionError) as exc:
+        return {"limit": str(exc) or type(exc).__name__}
+    except Exception as exc:  # noqa: BLE001 - sent to the parent as one line
+        return {"error": f"{type(exc).__name__}: {exc}"}
+
+
+def _write(out, payload: dict) -> None:
+    try:
+        data = json.dumps(payload)
+    except (TypeError, ValueError) as exc:
+        data = json.dumps({"error": f"unserialisable answer: {exc}"})
+    out.write(data.encode("utf-8") + b"\n")
+    out.flush()
+
+
+def main() -> None:
+    reader, out = sys.stdin.buffer, sys.stdout.buffer
+    sys.stdout = sys.stderr  # anything a library prints stays off the answer channel
+    setup = json.loads(reader.readline(MAX_REQUEST_BYTES))
+    sys.dont_write_bytecode = True
+    for module in LIBRARY_PRELOAD:  # imported before the filter: less to read afterwards
+        __import__(module)
+    from urdftool import cache, sandbox
+
+    sandbox.IN_CHILD = True
+    cache.ENABLED = False  # the parent keeps the persistent cache; the child writes nothing
+    layers = confine(setup["read"], setup["memory_mb"], setup["cpu_seconds"])
+    _write(out, {"layers": layers})
+    if setup.get("test_payload_allowed") and os.environ.get("URDFTOOL_SANDBOX_TEST") == "1":
+        _run_test_payload(reader, out)  # tests only: see urdftool.sandbox.run_test_payload
+        return
+    while True:
+        line = reader.readline(MAX_REQUEST_BYTES)
+        if not line:
+            return
+        try:
+            request = json.loads(line)
+        except ValueError:
+            _write(out, {"error": "unreadable request"})
+            continue
+        _write(out, _answer(request))
+
+
+def _run_test_payload(reader, out) -> None:
+    """Run the Python source given on the next line, inside the confined child, and answer
+    what it returned. Reached only when the parent asked for it at start-up AND the child's
+    environment has URDFTOOL_SANDBOX_TEST=1, which only ``sandbox.run_test_payload`` (never
+    the CLI) sets: the tests use it to attack the sandbox independently of the xacro
+    interpreter."""
+    code = json.loads(reader.readline(MAX_REQUEST_BYTES))
+    scope: dict = {}
+    try:
+        exec(code, scope)  # noqa: S102 - test payload, see the docstring
+        _write(out, {"ok": scope.get("result")})
+    except BaseException as exc:  # noqa: BLE001 - the test reads it
+        _write(out, {"error": f"{type(exc).__name__}: {exc}"})
+
+
+if __name__ == "__main__":
+    main()
