@@ -7,6 +7,7 @@ import pytest
 
 from urdftool.check import CheckOptions, check_file
 from urdftool.rules import FAMILIES, load_all
+from urdftool.source import LoadOptions
 
 RULES = sorted(load_all().values(), key=lambda r: r.id)
 
@@ -18,8 +19,12 @@ def _write(tmp_path, text: str):
     return path
 
 
+UNTRUSTED_ONLY = {"xacro.env-not-allowed"}  # rules about what --untrusted hides
+
+
 def _fired(tmp_path, text: str, rule_id: str) -> list:
-    report = check_file(_write(tmp_path, text), CheckOptions(select=[rule_id]))
+    load = LoadOptions(untrusted=rule_id in UNTRUSTED_ONLY)
+    report = check_file(_write(tmp_path, text), CheckOptions(load=load, select=[rule_id]))
     return [d for d in report.diagnostics if d.rule == rule_id]
 
 

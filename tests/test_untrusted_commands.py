@@ -100,3 +100,60 @@ def test_convert_untrusted_reads_no_include_outside_the_package(tmp_path, monkey
     assert "hunter2_link" in run_urdftool("convert", "--trusted", path).out
     result = run_urdftool("convert", "--untrusted", path)
     assert "hunter2" not in result.out and "outside the package roots" in result.err
+
+
+def test_optenv_default_taken_for_a_hidden_variable_is_a_finding(env_reader, monkeypatch):
+    """Issue 14: a default taken because --untrusted hides a set variable is said, with how
+    to allow it; an unset variable's default (what xacro takes too) and an allowed one are
+    not findings."""
+
+    def hidden(*args):
+        result = run_urdftool("check", "--format", "json", *args, env_reader)
+        return [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+                if d["rule"] == "xacro.env-not-allowed"]
+
+    (finding,) = hidden("--untrusted")
+    assert finding["severity"] == "warning" and "URDFTOOL_SECRET" in finding["message"]
+    assert finding["hint"] == "--allow-env URDFTOOL_SECRET" and "hunter2" not in str(finding)
+    assert finding["line"] == 4 and finding["path"].endswith("env.urdf.xacro")
+    assert hidden("--untrusted", "--allow-env", "URDFTOOL_SECRET") == []
+    assert hidden("--trusted") == []
+    monkeypatch.delenv("URDFTOOL_SECRET")
+    assert hidden("--untrusted") == []
+
+
+def _messages(path, rule_family="xacro"):
+    result = run_urdftool("check", "--untrusted", "--format", "json", path)
+    return [d["message"] for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+            if d["rule"].startswith(rule_family)]
+
+
+def test_an_include_glob_outside_the_roots_names_no_file_it_found(tmp_path):
+    outside = tmp_path / "machine"
+    outside.mkdir()
+    (outside / "id_rsa_hunter2.xacro").write_text('<robot xmlns:xacro="http://www.ros.org/wiki/'
+                                                  'xacro"><link name="stolen"/></robot>')
+    answers = []
+    package = _package(tmp_path)
+    for pattern in ("id_rsa_*.xacro", "nothing_*.xacro"):
+        path = package / "urdf" / f"glob_{pattern[:4]}.urdf.xacro"
+        path.write_text(HEAD + f'  <xacro:include filename="../../machine/{pattern}"/>\n'
+                        + BODY.format(name="j"))
+        messages = _messages(path)
+        assert not any("hunter2" in m or "stolen" in m for m in messages), messages
+        answers.append([m.replace(pattern, "PATTERN") for m in messages])
+    assert answers[0] == answers[1]
+
+
+def test_model_uri_outside_the_roots_answers_the_same_whether_it_exists(tmp_path):
+    (tmp_path / "exists").mkdir()
+    (tmp_path / "exists" / "model.sdf").write_text(
+        '<sdf version="1.7"><model name="x"><link name="l"/></model></sdf>')
+    answers = []
+    package = _package(tmp_path)
+    for name in ("exists", "missing"):
+        path = package / f"{name}.sdf"
+        path.write_text('<sdf version="1.7"><model name="m"><link name="a"/><include>'
+                        f"<uri>model://../../{name}</uri></include></model></sdf>")
+        answers.append([m.replace(name, "X") for m in _messages(path, "sdf")])
+    assert answers[0] == answers[1] and answers[0], answers

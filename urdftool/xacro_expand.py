@@ -99,6 +99,7 @@ class _Policy:
     deadline: float | None = None  # time.monotonic() after which expansion stops
     roots: list[Path] | None = None  # files only under these (None: anywhere)
     allow_env: frozenset | None = None  # $(env)/$(optenv) see only these (None: all)
+    hidden: list = field(default_factory=list)  # $(optenv NAME) that took its default for it
 
     def check_path(self, filename: str) -> None:
         if self.roots is None:
@@ -277,7 +278,12 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             outside = isinstance(exc.exc, OutsidePackage)
             if not (isinstance(exc.exc, OSError) or outside) or not elt.getAttribute(LOC_ATTR):
                 raise
-            source.add("xacro.error", Finding(f"xacro: {str(exc).strip()}; skipped, the rest is "
+            # outside the roots: the include as written, never the file found (a glob would
+            # tell which files exist on the machine)
+            message = (f"include '{elt.getAttribute('filename')}' is outside the package roots; "
+                       "--untrusted reads only files inside them (give the package with "
+                       "-P NAME=DIR)") if outside else str(exc).strip()
+            source.add("xacro.error", Finding(f"xacro: {message}; skipped, the rest is "
                                      "expanded without it", _parse_loc(exc.urdftool_loc, files)))
             xacro.replace_node(elt, by=None)
 
@@ -323,6 +329,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
 
     def eval_optenv(name, default=""):
         if policy.allow_env is not None and name not in policy.allow_env:
+            policy.hidden.append(name)
             return default
         return saved[8](name, default)
 
@@ -381,8 +388,30 @@ def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Polic
                 work.add("xacro.error", Finding(f"xacro: {message}", loc))
             elif not work.problems:
                 work.add("xacro.error", Finding(f"xacro: {type(exc).__name__}: {exc}", loc))
+    _report_hidden(work, policy.hidden)
     return Expansion(expanded, list(files.paths), [_one_line(rule, f) for rule, f in work.problems],
                      work.texts)
+
+
+def _report_hidden(work: Source, names: list[str]) -> None:
+    """``xacro.env-not-allowed`` for each ``$(optenv NAME default)`` that took its default
+    because --untrusted hides NAME, at its first use, when NAME is set (in the sandboxed
+    reader, where nothing is set, the parent keeps those whose variable it has)."""
+    from urdftool import sandbox
+
+    for name in dict.fromkeys(names):
+        if not sandbox.IN_CHILD and name not in os.environ:
+            continue  # not set: the default is what xacro itself would take
+        loc = Loc(work.path, None, None)
+        for shown, text in work.texts.items():
+            index = text.find(f"optenv {name}")
+            if index >= 0:
+                line_start = text.rfind("\n", 0, index) + 1
+                loc = Loc(shown, text.count("\n", 0, index) + 1, index - line_start + 1)
+                break
+        work.add("xacro.env-not-allowed", Finding(
+            f"$(optenv {name}) took its default: --untrusted hides the environment variable "
+            f"{name}, which is set", loc, hint=f"--allow-env {name}"))
 
 
 def _one_line(rule: str, finding: Finding) -> tuple[str, Finding]:

@@ -34,6 +34,7 @@ COMMANDS = {
     "jacobian": "Jacobian table at a configuration (or symbolic)",
     "sim": "short PyBullet physics smoke test per model",
     "rules": "the rule catalogue",
+    "doctor": "optional libraries and --untrusted sandbox layers on this machine",
 }
 
 
@@ -152,6 +153,9 @@ def load_options(packages: tuple[str, ...], xacro_args: dict[str, str]):
     given = ctx.meta.get(_UNTRUSTED_KEY, {}) if ctx is not None else {}
     untrusted = given.get("untrusted")
     options.untrusted = untrusted_default() if untrusted is None else untrusted
+    meshes = sys.modules.get("urdftool.physics.meshes")
+    if not options.untrusted and meshes is not None:  # a trusted run after an untrusted one
+        meshes.PARSER = None  # (in one process: tests) parses its meshes itself
     options.allow_env = tuple(given.get("allow_env") or ())
     if given.get("timeout") is not None:
         options.timeout = given["timeout"]

@@ -395,6 +395,23 @@ source_rule(
 )
 
 source_rule(
+    "xacro.env-not-allowed", "warning",
+    "`$(optenv NAME default)` took its default because --untrusted hides NAME",
+    doc="""Under `--untrusted` (the default when `CI` is set) xacro's `$(env NAME)` and
+    `$(optenv NAME)` see only the variables named with `--allow-env`: the environment of a CI
+    runner holds its secrets. A description that picks an accessory, a mesh folder or a
+    variant with `$(optenv NAME default)` is then checked with the default even though NAME is
+    set, so the robot checked is not the robot your environment builds. urdftool says so
+    rather than check another robot in silence. If the variable is not secret and the robot
+    should be checked with its value, allow it: `--allow-env NAME`.""",
+    bad='<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
+        '  <link name="base_$(optenv HOME default)"/>\n</robot>',
+    good='<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
+         '  <xacro:arg name="suffix" default="default"/>\n'
+         '  <link name="base_$(arg suffix)"/>\n</robot>',
+)
+
+source_rule(
     "xacro.limit-exceeded", "error", "xacro expansion ran past a time, size or depth limit",
     doc="""A macro that calls itself, macros that double at each level, a number like
     `10**10**10` or a gigantic include make xacro run for ever or exhaust memory; a CI gate must

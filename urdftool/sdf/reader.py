@@ -524,7 +524,9 @@ class Reader:
             rest = uri[len("model://"):]
             for directory in self.search_dirs(base):
                 candidate = directory / rest
-                if candidate.exists():
+                # outside the roots (model://../../X): not looked at, so the answer is the
+                # same whether X exists or not
+                if self._allowed(candidate) and candidate.exists():
                     return candidate
             return None
         if uri.startswith(("http://", "https://")):
