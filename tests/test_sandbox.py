@@ -288,3 +288,13 @@ def test_doctor_lists_the_layers():
     assert result.code == 0 and report["libraries"]["pyseccomp"] is True
     assert set(report["sandbox"]) == {"capabilities", "rlimits", "no_new_privs", "landlock",
                                       "seccomp"}
+
+
+def test_a_missing_layer_is_said_once(capsys):
+    from urdftool import sandbox
+
+    sandbox._NOTICED.discard("landlock")
+    sandbox._notice({"landlock": "off: kernel without Landlock", "seccomp": "denylist"})
+    sandbox._notice({"landlock": "off: kernel without Landlock"})
+    err = capsys.readouterr().err
+    assert err.count("without landlock (kernel without Landlock)") == 1 and "seccomp" not in err

@@ -143,6 +143,10 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
     files, given = plan(paths, options.changed)
     if not files:
         raise ToolError("no robot files (*.urdf, *.xacro, *.sdf) found in " + ", ".join(paths))
+    if options.load.untrusted:  # one sandboxed reader for the run, not one per package
+        from urdftool import sandbox
+
+        sandbox.expect([f.path for f in files], options.load)
     _single_threaded_blas()
     # a run allocates many short-lived objects (XML proxies, model records): the young
     # generation collected 30x less often, and so the whole heap rarely walked (~4% of a run)

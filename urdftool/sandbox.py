@@ -278,13 +278,26 @@ class Child:
 _CHILD: list[Child] = []  # this process's reader (a forked worker starts its own)
 
 
+def expect(paths: list, options) -> None:
+    """The package roots of every file of a run, so that its one reader may read them all
+    (Landlock cannot widen a running reader: without this, each new package would start
+    another)."""
+    from urdftool.packages import PackageResolver
+
+    roots: dict[Path, None] = {}
+    for path in paths:
+        resolver = PackageResolver(options.packages, Path(path))
+        roots.update(dict.fromkeys(package_roots(resolver, Path(path))))
+    _RUN["expected"] = list(roots)
+
+
 def _child(roots: list[Path]) -> Child:
     current = _CHILD[0] if _CHILD else None
     settings = (int(_RUN.get("memory_mb", 1024)), tuple(_RUN.get("allow_env", ())))
     if current is not None and current.alive() and current.covers(roots) \
             and current.settings == settings and current.cpu_seconds() < CHILD_CPU_SECONDS / 2:
         return current
-    read = list(roots)
+    read = list(dict.fromkeys([*roots, *_RUN.get("expected", ())]))
     if current is not None:
         if current.owner == os.getpid() and current.settings == settings:
             read += [p for p in current.read if not any(p.is_relative_to(r) for r in roots)]

@@ -120,20 +120,23 @@ def untrusted_options(function):
     options = [
         click.option("--memory-limit", "memory_limit", type=click.IntRange(64), default=None,
                      metavar="MB", expose_value=False, callback=_remember,
-                     help="Memory for a sandboxed xacro expansion (default 1024 MB)."),
+                     help="Address space of the --untrusted sandboxed reader, which reads "
+                          "xacro, YAML, SDF and meshes (default 1024 MB)."),
         click.option("--timeout", "timeout", type=click.FloatRange(0.1), default=None,
                      metavar="SECONDS", expose_value=False, callback=_remember,
-                     help="Time limit of one xacro expansion (default 5 s)."),
+                     help="Time limit of one xacro expansion, and under --untrusted of "
+                          "one file or mesh read by the sandboxed reader (default 5 s)."),
         click.option("--allow-env", "allow_env", multiple=True, metavar="NAME",
                      expose_value=False, callback=_remember,
                      help="With --untrusted: an environment variable $(env NAME) and "
                           "$(optenv NAME) may read. Repeatable."),
         click.option("--untrusted/--trusted", "untrusted", default=None, expose_value=False,
                      callback=_remember,
-                     help="Treat the input as hostile: expand xacro in a sandboxed process "
-                          "(time and memory limits, no environment, files only inside the "
-                          "package roots). Default: --untrusted when the CI environment "
-                          "variable is set."),
+                     help="Treat the input as hostile: read xacro, YAML, SDF and meshes in "
+                          "a sandboxed process (time and memory limits, no environment, "
+                          "Landlock and seccomp where the kernel has them, files only inside "
+                          "the package roots; `urdftool doctor` lists the layers). Default: "
+                          "--untrusted when the CI environment variable is set."),
     ]
     for option in options:
         function = option(function)
