@@ -411,7 +411,7 @@ def _report_hidden(work: Source, names: list[str]) -> None:
                 break
         work.add("xacro.env-not-allowed", Finding(
             f"$(optenv {name}) took its default: --untrusted hides the environment variable "
-            f"{name}, which is set", loc, hint=f"--allow-env {name}"))
+            f"{name}, which is set", loc, hint=f"--allow-env {name}", severity="warning"))
 
 
 def _one_line(rule: str, finding: Finding) -> tuple[str, Finding]:

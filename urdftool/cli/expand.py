@@ -65,8 +65,9 @@ def command(ctx, inputs, packages, output, fmt):
     if len(paths) != 1:
         raise ToolError("expand takes exactly one FILE")
     source = load(paths[0], load_options(packages, xacro_args))
-    errors = [(rule, f) for rule, f in source.problems
-              if rule.startswith(("xacro.", "xml.")) and rule != "xml.declaration"]
+    shown = [(rule, f) for rule, f in source.problems
+             if rule.startswith(("xacro.", "xml.")) and rule != "xml.declaration"]
+    errors = [(rule, f) for rule, f in shown if (f.severity or "error") == "error"]
     text = xacro_document(source.root, paths[0]) if source.root is not None else ""
     if fmt == "json":
         problems = [{"rule": rule, "message": f.message, "path": f.loc.path if f.loc else None,
@@ -75,11 +76,11 @@ def command(ctx, inputs, packages, output, fmt):
         click.echo(json_safe(json.dumps({"path": source.path, "urdf": text,
                                          "problems": problems}, indent=2)))
     else:
-        for rule, finding in errors:
+        for rule, finding in shown:  # a warning (xacro.env-not-allowed) is said, not fatal
             loc = finding.loc
             print_finding(loc.path if loc else source.path, loc.line if loc else None,
-                          loc.column if loc else None, "error", rule, finding.message,
-                          finding.hint, err=True)
+                          loc.column if loc else None, finding.severity or "error", rule,
+                          finding.message, finding.hint, err=True)
         if text and not errors:
             write_output(text, output, inputs=[*paths, *source.texts], offer_in_place=False)
     ctx.exit(1 if errors or not text else 0)
