@@ -160,11 +160,21 @@ def confine(read: list[str], memory_mb: int, cpu_seconds: int) -> dict[str, str]
     the kernel or the system lacks it)."""
     layers: dict[str, str] = {}
     modules = {}
-    for name in ("landlock", "pyseccomp"):  # imported before any limit: pyseccomp runs
-        try:                                 # ldconfig to find libseccomp
-            modules[name] = __import__(name)
-        except Exception as exc:  # noqa: BLE001 - not installed, or no libseccomp: said below
-            modules[name] = exc
+    import ctypes.util
+
+    # pyseccomp finds libc and libseccomp with find_library, which runs ldconfig (two
+    # processes, ~40 ms): their sonames are stable, so it is given them (any other name: asked)
+    find_library = ctypes.util.find_library
+    ctypes.util.find_library = lambda name: {"c": "libc.so.6", "seccomp": "libseccomp.so.2"}.get(
+        name) or find_library(name)
+    try:
+        for name in ("landlock", "pyseccomp"):  # imported before any limit
+            try:
+                modules[name] = __import__(name)
+            except Exception as exc:  # noqa: BLE001 - not installed, no libseccomp: said below
+                modules[name] = exc
+    finally:
+        ctypes.util.find_library = find_library
     try:
         _drop_capabilities()
         layers["capabilities"] = "dropped"
