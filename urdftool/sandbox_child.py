@@ -251,11 +251,7 @@ def _mesh(request: dict) -> dict:
 
     from urdftool.physics import meshes
 
-    info = meshes._load(Path(request["path"]), request["need_volume"])
-    if info.error:  # one line (an ImportError's text is a page)
-        info = meshes.MeshInfo(info.path, error="; ".join(
-            line.strip() for line in info.error.splitlines() if line.strip())[:500])
-    header, hull = meshes._encode(info)
+    header, hull = meshes._encode(meshes._load(Path(request["path"]), request["need_volume"]))
     return {"header": header, "hull": [float(x) for x in hull.reshape(-1)]}
 
 
