@@ -14,6 +14,7 @@ import io
 import os
 import re
 from pathlib import Path
+from stat import S_ISDIR, S_ISREG
 
 from lxml import etree
 
@@ -166,8 +167,6 @@ def read_bytes(path: Path) -> bytes:
     """A regular file's bytes, at most MAX_FILE_BYTES. A device, FIFO or directory (a
     committed symlink to /dev/zero, say) or a larger file is a ToolError, found before reading
     (opened without blocking, then checked on the open descriptor: no race with a rename)."""
-    import stat
-
     try:
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
     except IsADirectoryError:
@@ -176,15 +175,17 @@ def read_bytes(path: Path) -> bytes:
         raise ToolError(f"{path}: cannot read: {exc.strerror or exc}") from None
     with open(fd, "rb", closefd=True) as handle:
         info = os.fstat(fd)
-        if stat.S_ISDIR(info.st_mode):
+        if S_ISDIR(info.st_mode):
             raise ToolError(f"{path}: is a directory")
-        if not stat.S_ISREG(info.st_mode):
+        if not S_ISREG(info.st_mode):
             raise ToolError(f"{path}: not a regular file (a device, FIFO or socket): not read")
         if info.st_size > MAX_FILE_BYTES:
             raise ToolError(f"{path}: {info.st_size >> 20} MB, larger than the "
                             f"{MAX_FILE_BYTES >> 20} MB a robot description may have: not read")
         try:
-            data = handle.read(MAX_FILE_BYTES + 1)
+            data = handle.read(info.st_size + 1)  # (asking for MAX_FILE_BYTES allocates it)
+            if len(data) > info.st_size:  # grew since, or a size the system does not know
+                data += handle.read(MAX_FILE_BYTES + 1 - len(data))
         except OSError as exc:
             raise ToolError(f"{path}: cannot read: {exc.strerror or exc}") from None
     if len(data) > MAX_FILE_BYTES:  # grew while we read
