@@ -532,30 +532,10 @@ def run_test_payload(code: str, read: list[Path], memory_mb: int = 1024,
                      allow_env: tuple[str, ...] = ()) -> dict:
     """Tests only: run Python ``code`` inside a confined reader (exactly the CLI's, plus a
     switch in its environment that no CLI option sets) and return ``{"layers": ...,
-    "result"|"error": ...}``: the sandbox attacked without going through the xacro
-    interpreter."""
+    "ok"|"error": ...}`` (``ok``: the payload's ``result``): the sandbox attacked without
+    going through the xacro interpreter."""
     child = Child(read, memory_mb, allow_env, test=True)
     try:
-        child.process.stdin.write(json.dumps(code).encode("utf-8") + b"\n")
-        child.process.stdin.flush()
-        answer = _read_answer(child)
-        return {"layers": child.layers, **answer}
+        return {"layers": child.layers, **child._exchange(code, 30.0, "a test payload")}
     finally:
         child.close()
-
-
-def _read_answer(child: Child) -> dict:
-    deadline = time.monotonic() + 30.0
-    out = child.process.stdout.fileno()
-    while b"\n" not in child.buffer and time.monotonic() < deadline:
-        ready, _, _ = select.select([out], [], [], max(0.0, deadline - time.monotonic()))
-        if ready:
-            chunk = os.read(out, 1 << 20)
-            if not chunk:
-                break
-            child.buffer += chunk
-    line = child.buffer.partition(b"\n")[0]
-    try:
-        return json.loads(line)
-    except ValueError:
-        return {"error": f"no answer (status {child.process.poll()})"}
