@@ -298,3 +298,30 @@ def test_a_missing_layer_is_said_once(capsys):
     sandbox._notice({"landlock": "off: kernel without Landlock"})
     err = capsys.readouterr().err
     assert err.count("without landlock (kernel without Landlock)") == 1 and "seccomp" not in err
+
+
+@pytest.mark.parametrize("suffix", [".urdf.xacro", ".sdf"])
+@pytest.mark.parametrize("failure", ["limit", "crash"])
+def test_a_reader_that_fails_is_a_finding_of_a_real_rule(tmp_path, monkeypatch, suffix,
+                                                         failure):
+    """A reader stopped at the deadline or dead is reported under a registered rule (a finding
+    under an unknown id would be dropped in silence)."""
+    from urdftool import sandbox
+    from urdftool.rules import load_all
+    from urdftool.safe_eval import LimitExceeded
+
+    class Broken:
+        def ask(self, *args):
+            raise LimitExceeded("took too long") if failure == "limit" else \
+                sandbox.SandboxFailure("the reader died")
+
+    monkeypatch.setattr(sandbox, "_child", lambda roots: Broken())
+    path = tmp_path / f"robot{suffix}"
+    path.write_text('<sdf version="1.7"><model name="m"><link name="a"/></model></sdf>'
+                    if suffix == ".sdf" else '<robot name="r" xmlns:xacro="http://www.ros.org/'
+                    'wiki/xacro"><xacro:property name="x" value="1"/><link name="a"/></robot>')
+    result = run_urdftool("check", "--untrusted", "--format", "json", path)
+    (finding,) = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+                  if "took too long" in d["message"] or "the reader died" in d["message"]]
+    assert finding["rule"] in load_all() and finding["severity"] == "error"
+    assert result.code == 1

@@ -346,7 +346,8 @@ def load_source(path: Path, options, resolver, kind: str):
                "sdf_model_paths": list(options.sdf_model_paths),
                "allow_env": list(options.allow_env), "timeout": options.timeout}
     what = "xacro expansion" if kind == "xacro" else "SDF reading"
-    rule = "xacro" if kind == "xacro" else "sdf"
+    limit_rule, failure_rule = (("xacro.limit-exceeded", "xacro.error") if kind == "xacro"
+                                else ("sdf.bad-value", "sdf.bad-value"))
     model_paths = [*options.sdf_model_paths,
                    *(entry for name in PATH_VARIABLES[2:]
                      for entry in os.environ.get(name, "").split(os.pathsep) if entry)]
@@ -361,12 +362,11 @@ def load_source(path: Path, options, resolver, kind: str):
                            or (f.hint or "").rpartition(" ")[2] in os.environ]
     except LimitExceeded as exc:
         source = Source(str(path), kind)
-        source.add(f"{rule}.limit-exceeded" if rule == "xacro" else "sdf.invalid",
-                   Finding(f"{kind}: {exc}; reading stopped", Loc(str(path), None, None)))
+        source.add(limit_rule, Finding(f"{kind}: {exc}; reading stopped",
+                                       Loc(str(path), None, None)))
     except SandboxFailure as exc:
         source = Source(str(path), kind)
-        source.add(f"{rule}.error" if rule == "xacro" else "sdf.invalid",
-                   Finding(f"{kind}: {exc}", Loc(str(path), None, None)))
+        source.add(failure_rule, Finding(f"{kind}: {exc}", Loc(str(path), None, None)))
     source.resolver = resolver
     return source
 
@@ -500,7 +500,7 @@ def source_from_json(data, path: str):
     try:
         root = etree.fromstring(_utf8_bytes(xml), secure_parser())
     except etree.XMLSyntaxError as exc:
-        source.add("xacro.limit-exceeded" if source.kind == "xacro" else "sdf.invalid", Finding(
+        source.add("xacro.limit-exceeded" if source.kind == "xacro" else "sdf.bad-value", Finding(
             f"the document read cannot be read back ({exc.msg}); nested too deeply or too "
             "large", Loc(path, None, None)))
         return source
