@@ -409,13 +409,11 @@ def parse_mesh(path: Path, need_volume: bool):
         answer = _child(roots).ask({"op": "mesh", "path": os.fspath(path),
                                     "need_volume": need_volume}, _RUN.get("timeout", 5.0),
                                    f"reading mesh {Path(path).name}")
-        import numpy as np
-
         header, hull = answer["header"], answer["hull"]
         if not isinstance(header, dict) or not isinstance(hull, list) \
                 or not all(type(x) is float for x in hull):
             raise SandboxFailure("malformed mesh summary")
-        info = meshes._decode(Path(path), (header, np.array(hull, dtype=float)))
+        info = meshes._decode(Path(path), (header, hull))
         if info is None:
             raise SandboxFailure("malformed mesh summary")
         return info
