@@ -308,7 +308,7 @@ def test_a_reader_that_fails_is_a_finding_of_a_real_rule(tmp_path, monkeypatch, 
     under an unknown id would be dropped in silence)."""
     from urdftool import sandbox
     from urdftool.rules import load_all
-    from urdftool.safe_eval import LimitExceeded
+    from urdftool.xacro_eval import LimitExceeded
 
     class Broken:
         def ask(self, *args):

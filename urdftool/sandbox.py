@@ -336,8 +336,8 @@ def load_source(path: Path, options, resolver, kind: str):
     """A xacro or SDF input read, expanded and converted in the sandboxed reader."""
     from urdftool.model import Loc
     from urdftool.report import Finding
-    from urdftool.xacro_eval import LimitExceeded
     from urdftool.source import Source
+    from urdftool.xacro_eval import LimitExceeded
 
     _RUN.update(timeout=options.timeout, memory_mb=options.memory_mb,
                 allow_env=tuple(options.allow_env))

@@ -369,7 +369,7 @@ def unexpanded_xacro(robot: Robot) -> set:
     return set(_unprefixed_tags(robot)) | {element for element, _ in _unprefixed_calls(robot)}
 
 
-# -- untrusted input (issue 8: urdftool.safe_eval, urdftool.sandbox) ---------------------------
+# -- untrusted input (issue 8: urdftool.xacro_eval, urdftool.sandbox) ---------------------------
 
 source_rule(
     "xacro.unsafe-expression", "error", "a xacro expression that could run code; not evaluated",
