@@ -46,8 +46,12 @@ def test_error_exits_1_and_json_matches_contract(write):
     assert set(file) == {"path", "robot", "diagnostics"}
     assert file["path"] == str(path)
     for diagnostic in file["diagnostics"]:
-        assert set(diagnostic) == {"rule", "severity", "message", "path", "line", "column",
-                                   "element", "hint"}
+        assert set(diagnostic) - {"fix"} == {"rule", "severity", "message", "path", "line",
+                                             "column", "element", "hint"}
+        if "fix" in diagnostic:  # optional (DESIGN: added contracts)
+            assert diagnostic["fix"]["applicability"] in ("safe", "unsafe")
+            for edit in diagnostic["fix"]["edits"]:
+                assert set(edit) == {"path", "line", "column", "end_line", "end_column", "text"}
         assert diagnostic["severity"] in ("error", "warning", "info")
         assert diagnostic["rule"].split(".")[0] in (
             "xml", "schema", "structure", "joint", "mimic", "inertia", "geometry", "mesh",

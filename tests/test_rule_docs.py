@@ -44,3 +44,37 @@ def test_bad_example_triggers_rule(rule, tmp_path):
 def test_good_example_does_not_trigger_rule(rule, tmp_path):
     fired = _fired(tmp_path, rule.good, rule.id)
     assert not fired, f"the 'good' example of {rule.id} triggers it: {fired}"
+
+
+FIXABLE = [r for r in RULES if r.fix]
+
+
+def _rules(path) -> set[tuple[str, str]]:
+    report = check_file(path, CheckOptions(look_through=False))
+    return {(d.rule, d.severity) for d in report.diagnostics}
+
+
+@pytest.mark.parametrize("rule", FIXABLE, ids=lambda r: r.id)
+def test_bad_example_fixed_behaves_like_good(rule, tmp_path):
+    """The documented 'bad' example, fixed (unsafe fixes too), loses the finding and gains
+    none that neither the 'bad' nor the 'good' example has."""
+    from urdftool.fix import fix_file
+
+    bad = _write(tmp_path, rule.bad)
+    result = fix_file(bad, CheckOptions(), unsafe=True)
+    assert result.fixed >= 1 and result.changed() == [str(bad)], f"{rule.id}: nothing fixed"
+    fixed = tmp_path / "fixed" / bad.name
+    fixed.parent.mkdir()
+    fixed.write_text(result.texts[str(bad)], encoding="utf-8")
+    assert fixed.read_text().count("\n") == bad.read_text().count("\n")  # no line moves
+    after = _rules(fixed)
+    assert rule.id not in {r for r, _ in after}, f"{rule.id} still fires after its fix"
+    good = tmp_path / "good" / bad.name
+    good.parent.mkdir()
+    good.write_text(rule.good + "\n", encoding="utf-8")
+    new = after - _rules(bad) - _rules(good)
+    assert not new, f"fixing {rule.id} brings {new}"
+    # idempotent: the fixed file has nothing more to fix for this rule
+    again = fix_file(fixed, CheckOptions(), unsafe=True)
+    assert again.texts[str(fixed)] == result.texts[str(bad)] or rule.id not in {
+        d.rule for d in check_file(fixed, CheckOptions()).diagnostics}

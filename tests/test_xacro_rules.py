@@ -15,8 +15,8 @@ SMARTCAR = ROOT / "robots" / "smartcar"
 HEAD = '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
 
 
-def found(path, select="xacro"):
-    return check_file(path, CheckOptions(select=[select])).diagnostics
+def found(path, select="xacro", look_through=True):
+    return check_file(path, CheckOptions(select=[select], look_through=look_through)).diagnostics
 
 
 @pytest.mark.parametrize(("body", "line", "message", "hint"), [
@@ -56,9 +56,13 @@ def test_unprefixed_tags_with_exact_rewrites(write):
             '  <gazebo><plugin name="p" filename="x.so"><arg>ignored</arg></plugin></gazebo>\n'
             "</robot>\n")
     diagnostics = found(write(text, "robot.urdf.xacro"))
+    # looking through the prefixed tags: the include names a file that does not exist
     assert [(d.rule, d.severity, d.line) for d in diagnostics] == [
-        ("xacro.unprefixed-tag", "warning", 2), ("xacro.unprefixed-tag", "warning", 3),
-        ("xacro.unprefixed-tag", "warning", 4)]
+        ("xacro.unprefixed-tag", "warning", 2), ("xacro.error", "error", 3),
+        ("xacro.unprefixed-tag", "warning", 3), ("xacro.unprefixed-tag", "warning", 4)]
+    assert "parts.xacro" in diagnostics[1].message
+    assert diagnostics[1].message.endswith("(found once the safe fixes are applied)")
+    diagnostics = [d for d in diagnostics if d.rule == "xacro.unprefixed-tag"]
     assert diagnostics[0].hint == 'write <xacro:property name="width" value="0.3"/>'
     assert diagnostics[1].hint == 'write <xacro:include filename="parts.xacro"/>'
     assert diagnostics[2].hint == 'write <xacro:macro name="leg" params="side"> ... </xacro:macro>'
@@ -67,10 +71,15 @@ def test_unprefixed_tags_with_exact_rewrites(write):
 def test_old_style_file_that_fails_to_expand_says_why(write):
     text = (HEAD + '  <macro name="leg" params="side">\n    <link name="${side}_leg"/>\n'
             "  </macro>\n</robot>\n")
-    diagnostics = found(write(text, "robot.urdf.xacro"))
+    diagnostics = found(write(text, "robot.urdf.xacro"), look_through=False)
     assert [(d.rule, d.line) for d in diagnostics] == [("xacro.error", 3)]
     assert "undefined property 'side'" in diagnostics[0].message
     assert "<macro> without the xacro: prefix" in diagnostics[0].hint
+    # read past the error, the unprefixed <macro> is found with its fix
+    diagnostics = found(write(text, "robot.urdf.xacro"))
+    assert [(d.rule, d.line) for d in diagnostics] == [("xacro.unprefixed-tag", 2),
+                                                      ("xacro.error", 3)]
+    assert diagnostics[0].fix.applicability == "safe"
 
 
 def test_unprefixed_tags_without_a_xacro_namespace(write):
@@ -124,18 +133,21 @@ def _smartcar(kind: str) -> Path:
 
 def test_smartcar_published_comes_out_empty():
     main = _smartcar("published")
-    diagnostics = found(main)
-    assert [(d.rule, d.severity, d.line) for d in diagnostics] == [
-        ("xacro.unprefixed-tag", "warning", 16),
-        ("xacro.unprefixed-macro-call", "error", 18),
-        ("xacro.unprefixed-macro-call", "error", 19)]
+    diagnostics = found(main, look_through=False)
+    # the included file's own unprefixed tags too: xacro never reads it, they are found anyway
+    assert [(Path(d.path).name, d.rule, d.severity, d.line) for d in diagnostics] == [
+        ("smartcar.urdf.xacro", "xacro.unprefixed-tag", "warning", 16),
+        ("smartcar.urdf.xacro", "xacro.unprefixed-macro-call", "error", 18),
+        ("smartcar.urdf.xacro", "xacro.unprefixed-macro-call", "error", 19),
+        *[("smartcar_body.urdf.xacro", "xacro.unprefixed-tag", "warning", n)
+          for n in (3, 5, 6, 7)]]
     assert diagnostics[0].hint.startswith(
         'write <xacro:include filename="$(find smartcar_description)/urdf/'
         'smartcar_body.urdf.xacro" />')
     assert "robot 'smartcar' comes out with no links at all" in diagnostics[1].message
     assert diagnostics[1].hint == "write <xacro:smartcar_body/>"
     assert "defined in gazebo.urdf.xacro" in diagnostics[2].message
-    body = found(main.parent / "urdf" / "smartcar_body.urdf.xacro")
+    body = found(main.parent / "urdf" / "smartcar_body.urdf.xacro", look_through=False)
     assert [(d.rule, d.line) for d in body] == [("xacro.unprefixed-tag", n) for n in (3, 5, 6, 7)]
     assert body[0].hint == 'write <xacro:property name="M_PI" value="3.14159"/>'
 

@@ -72,7 +72,11 @@ def test_m2wr_json_report_matches_the_contract():
     assert {"rule": "xml.unclosed-tag", "severity": "error",
             "message": "<material> opened here is never closed", "path": str(M2WR),
             "line": line, "column": column, "element": "/robot/gazebo[1]/material",
-            "hint": "write </material> after 'Gazebo/Orange'"} in diagnostics
+            "hint": "write </material> after 'Gazebo/Orange'",
+            # the fix: the '<' the end tag lost, inserted in the line as written
+            "fix": {"applicability": "safe", "edits": [
+                {"path": str(M2WR), "line": line, "column": column + 23, "end_line": line,
+                 "end_column": column + 23, "text": "<"}]}} in diagnostics
 
 
 def test_m2wr_after_repair_links_and_joints_are_at_the_top_level():
@@ -166,16 +170,20 @@ def test_corrected_copies_have_no_xml_findings(path):
 def test_fix_writes_the_repaired_file(tmp_path):
     out = tmp_path / "m2wr_fixed.xacro"
     result = run_urdftool("check", "--fix", "-o", out, M2WR)
-    assert result.code == 1  # the findings are still reported
+    assert result.code == 0  # what remains is warnings: reported, not failing
+    assert "warning" in result.out and "fixed, " in result.err
     original = M2WR.read_text(encoding="utf-8")
     fixed = out.read_text(encoding="utf-8")
     assert fixed.count("\n") == original.count("\n")
     etree.fromstring(fixed.encode(), secure_parser())
     changed = [i for i, (a, b) in enumerate(zip(original.splitlines(), fixed.splitlines()), 1)
                if a != b]
+    legacy = [line for line, _ in where(M2WR, "<joint_properties")]  # -> <dynamics>
+    assert len(legacy) == 2
     assert changed == sorted([where(M2WR, "Gazebo/Orange/material>")[0][0],
                               where(M2WR, "link_chassis/robotBaseFrame>")[0][0],
-                              where(M2WR, r"\n\s*imit effort")[0][0] + 1])
+                              where(M2WR, r"\n\s*imit effort")[0][0] + 1, *legacy])
+    assert all("<dynamics " in fixed.splitlines()[line - 1] for line in legacy)
     assert xml_findings(out) == []
     assert check_file(out, CheckOptions(select=["xml"])).diagnostics == []
 

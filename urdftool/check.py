@@ -1,5 +1,11 @@
 """The ``check`` pipeline: source -> model -> rules -> report, one file at a time; several files
-in a pool of forked worker processes (``CheckOptions.jobs``), reports in the order of the files."""
+in a pool of forked worker processes (``CheckOptions.jobs``), reports in the order of the files.
+
+Look-through: when findings carry safe fixes (``urdftool.edits``) beyond the XML repairs (made
+in memory while reading), the fixed texts are read again from memory and every rule runs on the
+robot as it was meant; the report is the fixed mistakes plus the findings of the fixed robot,
+at their places in the files as written (fixes never move lines). A xacro expansion stopped by
+an undefined name is read again past it (the expression left as written)."""
 
 from __future__ import annotations
 
@@ -23,7 +29,7 @@ from urdftool.report import (
     merge_repeats,
 )
 from urdftool.rules import load_all, selected
-from urdftool.source import LoadOptions, load
+from urdftool.source import LoadOptions, load, read_text
 
 
 @dataclass
@@ -35,29 +41,45 @@ class CheckOptions:
     debug: bool = False
     jobs: int | None = None  # worker processes for several files (None: default_jobs)
     changed: bool = False  # changed-files mode: the paths are files a commit changes (issue 13)
+    look_through: bool = True  # check the robot with its safe fixes applied (see above)
 
 
-def _diagnostic(rule_id: str, severity: str, finding: Finding, default_path: str) -> Diagnostic:
+LOOKS = 3  # rounds of look-through: a fix can uncover more (a macro call's body)
+FOUND_THROUGH = " (found once the safe fixes are applied)"
+FOUND_PAST = " (found by reading past the xacro errors)"
+
+
+def _diagnostic(rule, severity: str, finding: Finding, default_path: str) -> Diagnostic:
     loc = finding.loc
-    return Diagnostic(rule_id, finding.severity or severity, finding.message,
+    fix = None
+    if finding.edits and rule.fix:
+        from urdftool.edits import Fix
+
+        fix = Fix(rule.fix, tuple(finding.edits))
+    return Diagnostic(rule.id, finding.severity or severity, finding.message,
                       loc.path if loc is not None else default_path,
                       loc.line if loc is not None else None,
                       loc.column if loc is not None else None,
                       loc.element if loc is not None else None, finding.hint,
-                      call_sites=(tuple(loc.via),) if loc is not None and loc.via else ())
+                      call_sites=(tuple(loc.via),) if loc is not None and loc.via else (),
+                      fix=fix)
 
 
-def check_file(path: Path | str, options: CheckOptions | None = None,
-               target: Target | None = None) -> FileReport:
-    """All findings for one file (``target``: with the xacro arguments and packages of its
-    configuration). Raises ToolError when the file cannot be read at all."""
-    options = options or CheckOptions()
+def target_options(options: CheckOptions, target: Target | None = None) -> LoadOptions:
+    """``options.load`` with the xacro arguments and packages of ``target``'s configuration
+    (the command line's values win)."""
     load_options = options.load
     if target is not None and (target.args or target.packages):
-        load_options = copy.copy(load_options)  # the command line's values win
+        load_options = copy.copy(load_options)
         load_options.xacro_args = {**target.args, **load_options.xacro_args}
         load_options.packages = {**target.packages, **load_options.packages}
-    source = load(path, load_options)
+    return load_options
+
+
+def check_once(path: Path | str, options: CheckOptions, load_options=None):
+    """(source, robot, diagnostics) of one reading of ``path``: every selected rule, no
+    look-through, no suppressions."""
+    source = load(path, load_options or options.load)
     robot = build_robot(source)
     select = options.select or options.config.select
     ignore = options.ignore + options.config.ignore
@@ -70,17 +92,112 @@ def check_file(path: Path | str, options: CheckOptions | None = None,
                 raise
             findings = [Finding(f"internal error in rule {rule.id}: {type(exc).__name__}: {exc}",
                                 None, severity="warning")]
-        diagnostics.extend(_diagnostic(rule.id, severity, f, source.path) for f in findings)
-    quiet = {p: suppressions(t, p) for p, t in source.texts.items()}
+        diagnostics.extend(_diagnostic(rule, severity, f, source.path) for f in findings)
+    return source, robot, diagnostics
+
+
+def overlay_options(load_options: LoadOptions, texts: dict[str, str]) -> LoadOptions:
+    """``load_options`` reading ``texts`` (shown path -> text) from memory."""
+    load_options = copy.copy(load_options)
+    load_options.overlay = {**getattr(load_options, "overlay", {}),
+                            **{str(Path(p).resolve()): t for p, t in texts.items()}}
+    return load_options
+
+
+def _safe(diagnostic: Diagnostic) -> bool:
+    return diagnostic.fix is not None and diagnostic.fix.applicability == "safe"
+
+
+def _look_through(path, options: CheckOptions, load_options: LoadOptions, source, robot,
+                  diagnostics):
+    """(texts as written, robot, diagnostics) after looking through the safe fixes, and past
+    an undefined xacro name (a missing include's properties): reported where it is used, the
+    rest expanded with the expression left as written (``LoadOptions.lenient``)."""
+    from urdftool.edits import apply, map_diagnostic
+
+    originals = dict(source.texts)
+    stopped = source.kind == "xacro" and source.root is None and any(
+        rule == "xacro.error" and "is not defined" in f.message for rule, f in source.problems)
+    if not stopped and not any(_safe(d) and not d.rule.startswith("xml.") for d in diagnostics):
+        return originals, robot, diagnostics  # the XML repairs are made while reading
+    seen = {(d.rule, d.path, d.line, d.message) for d in diagnostics}
+    # what reading past the undefined names hides: the error itself is reported
+    kept = [d for d in diagnostics if d.rule.startswith("xacro.") and not _safe(d)] \
+        if stopped else []
+    texts = dict(source.texts)
+    history: list[dict] = []  # per round: path -> the edits made (in that round's text)
+    fixed: list[Diagnostic] = []
+    current = diagnostics
+    if stopped:
+        load_options = copy.copy(load_options)
+        load_options.lenient = True
+    for round_ in range(LOOKS):
+        safe = [d for d in current if _safe(d)]
+        edits = [e for d in safe for e in d.fix.edits]
+        made: dict[str, list] = {}
+        for name in {e.path for e in edits}:
+            if name not in texts:  # a file the check did not read (an unprocessed include)
+                try:
+                    texts[name] = originals[name] = read_text(Path(name))
+                except ToolError:
+                    continue
+            new, made_here = apply(texts[name], edits, name)
+            if new != texts[name]:
+                texts[name], made[name] = new, made_here
+        if not made and not (stopped and round_ == 0):
+            break
+        fixed.extend(map_diagnostic(d, history) for d in safe if d.path in made)
+        history.append(made)
+        try:
+            source, robot, current = check_once(path, options,
+                                                overlay_options(load_options, texts))
+        except ToolError:
+            return originals, robot, diagnostics
+        for name, text in source.texts.items():
+            originals.setdefault(name, text)
+    note = FOUND_PAST if stopped else FOUND_THROUGH
+    keys = {(d.rule, d.path, d.line, d.message) for d in fixed}
+    result = list(fixed)
+    for d in [*kept, *current]:
+        d = map_diagnostic(d, history) if d not in kept else d
+        key = (d.rule, d.path, d.line, d.message)
+        if key in keys or (stopped and "unexpanded xacro expression" in d.message):
+            continue
+        keys.add(key)
+        result.append(d if key in seen else d._replace(message=d.message + note))
+    return originals, robot, result
+
+
+def check_file(path: Path | str, options: CheckOptions | None = None,
+               target: Target | None = None) -> FileReport:
+    """All findings for one file (``target``: with the xacro arguments and packages of its
+    configuration), looking through its safe fixes. Raises ToolError when the file cannot be
+    read at all."""
+    options = options or CheckOptions()
+    load_options = target_options(options, target)
+    source, robot, diagnostics = check_once(path, options, load_options)
+    texts = source.texts
+    if options.look_through:
+        texts, robot, diagnostics = _look_through(path, options, load_options, source, robot,
+                                                  diagnostics)
+    report = finish(source, robot, diagnostics, texts)
+    report.args = target.args if target is not None else {}
+    return report
+
+
+def finish(source, robot, diagnostics: list[Diagnostic], texts: dict[str, str]) -> FileReport:
+    """The FileReport: suppressed findings dropped, macro instances grouped, the rest in file
+    and line order."""
+    quiet = {p: suppressions(t, p) for p, t in texts.items()}
     diagnostics = [d for d in diagnostics
                    if not (d.line and (quiet.get(d.path, {}).get(d.line, set())
                                        & {d.rule, d.rule.split(".")[0]}))]
     diagnostics = group_instances(diagnostics)
     diagnostics.sort(key=lambda d: (d.path != source.path, d.path, d.line or 0, d.column or 0,
                                     d.rule))
-    report = FileReport(source.path, robot.name, diagnostics, source.texts)
-    report.args = target.args if target is not None else {}
-    report.includes = tuple(sorted({str(Path(p).resolve()) for p in source.texts
+    report = FileReport(source.path, robot.name, diagnostics, texts)
+    report.args = {}
+    report.includes = tuple(sorted({str(Path(p).resolve()) for p in texts
                                     if p != source.path}))
     report.role = role(source)
     return report

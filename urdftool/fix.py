@@ -1,30 +1,114 @@
-"""`urdftool check --fix -o OUT FILE`: write FILE with its XML-level breakages repaired.
+"""`urdftool check --fix`: apply the edits findings carry (``urdftool.edits``) to the files the
+user wrote, repeatedly until nothing more applies (a fix can uncover more: a macro call's body).
 
-Only what ``urdftool.xmlrepair`` recognises is changed (unclosed and mismatched tags, tags that
-lost a bracket, bad attributes and entities...); every line stays where it was, so the output
-can be diffed against the input line by line. Never written over the input.
+Safe fixes by default, unsafe ones too with ``unsafe=True``. Every byte outside the edits stays
+as it was (comments, indentation, attribute order, line endings, a BOM), and no edit moves a
+line. Files are changed in memory here; the CLI writes them (``-o``, ``--in-place``) or shows
+the diff.
 """
 
 from __future__ import annotations
 
-import re
+import codecs
 from pathlib import Path
 
-from urdftool.output import write_output
+from urdftool.check import CheckOptions, check_once, finish, overlay_options
+from urdftool.edits import apply
+from urdftool.errors import ToolError
+from urdftool.report import FileReport
 from urdftool.source import read_text
-from urdftool.xmlrepair import repair
 
-_ENCODING_DECL_RE = re.compile(r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2")
-
-
-def fixed_text(path: str | Path) -> str:
-    """The repaired text of ``path`` (raises ToolError when it cannot be read)."""
-    text = read_text(Path(path))
-    fixed, _ = repair(text, str(path))
-    # written as UTF-8 whatever it was read as: make the declaration say so
-    return _ENCODING_DECL_RE.sub(r"\1\2UTF-8\2", fixed, count=1)
+MAX_ROUNDS = 10
 
 
-def write_fixed(path: str | Path, output: str) -> None:
-    """Write the repaired text of ``path`` to ``output`` (refuses to overwrite ``path``)."""
-    write_output(fixed_text(path), output, inputs=[str(path)])
+class FixResult:
+    __slots__ = ("fixed", "originals", "remaining", "texts")
+
+    def __init__(self, originals: dict[str, str], texts: dict[str, str], fixed: int,
+                 remaining: FileReport):
+        self.originals = originals  # every file read -> its text as written
+        self.texts = texts  # -> its text fixed
+        self.fixed = fixed  # findings whose fix was applied
+        self.remaining = remaining  # the check of the fixed files
+
+    def changed(self) -> list[str]:
+        return [p for p, t in self.texts.items() if t != self.originals.get(p)]
+
+
+def fix_file(path: str | Path, options: CheckOptions, unsafe: bool = False) -> FixResult:
+    """Fix ``path`` (and the files it includes) in memory."""
+    originals: dict[str, str] = {}
+    texts: dict[str, str] = {}
+    fixed: set = set()
+    for _ in range(MAX_ROUNDS):
+        source, _, diagnostics = check_once(path, options, overlay_options(options.load, texts))
+        for name, text in source.texts.items():
+            originals.setdefault(name, text)
+            texts.setdefault(name, text)
+        chosen = [d for d in diagnostics if d.fix is not None
+                  and (unsafe or d.fix.applicability == "safe")]
+        edits = [e for d in chosen for e in d.fix.edits]
+        made: set = set()
+        changed = False
+        for name in sorted({e.path for e in edits}):
+            if name not in texts:  # named only by an unprocessed include
+                try:
+                    texts[name] = originals[name] = read_text(Path(name))
+                except ToolError:
+                    continue
+            new, made_here = apply(texts[name], edits, name)
+            made.update(made_here)
+            if new != texts[name]:
+                texts[name], changed = new, True
+        fixed.update((d.rule, d.path, d.line, d.message) for d in chosen
+                     if any(e in made for e in d.fix.edits))
+        if not changed:
+            break
+    source, robot, diagnostics = check_once(path, options, overlay_options(options.load, texts))
+    remaining = finish(source, robot, diagnostics, texts)
+    return FixResult(originals, texts, len(fixed), remaining)
+
+
+_BOMS = ((codecs.BOM_UTF32_LE, "utf-32"), (codecs.BOM_UTF32_BE, "utf-32"),
+         (codecs.BOM_UTF8, "utf-8-sig"), (codecs.BOM_UTF16_LE, "utf-16"),
+         (codecs.BOM_UTF16_BE, "utf-16"))
+
+
+def encoded(path: str | Path, original: str, fixed: str) -> tuple[str, str]:
+    """(text, encoding) to write ``fixed`` as the file ``path`` was written: the lines the fixes
+    changed replace those of the file's own text (reading may have rewritten an encoding
+    declaration), in its encoding."""
+    try:
+        data = Path(path).read_bytes()
+    except OSError:
+        return fixed, "utf-8"
+    encoding = next((e for bom, e in _BOMS if data.startswith(bom)), "utf-8")
+    try:
+        raw = data.decode(encoding)
+    except UnicodeDecodeError:
+        return fixed, "utf-8"
+    if encoding == "utf-8":
+        if fixed.isascii():
+            return fixed, encoding
+        import re
+
+        # read as UTF-8 whatever the declaration says: make it say so
+        fixed = re.sub(r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2", r"\1\2UTF-8\2", fixed,
+                       count=1)
+        return fixed, encoding
+    lines, before, after = raw.split("\n"), original.split("\n"), fixed.split("\n")
+    if not len(lines) == len(before) == len(after):
+        return fixed, encoding
+    return "\n".join(a if a != b else line for line, b, a in zip(lines, before, after)), encoding
+
+
+def unified_diff(result: FixResult) -> str:
+    import difflib
+
+    parts = []
+    for name in result.changed():
+        parts.extend(difflib.unified_diff(result.originals[name].splitlines(keepends=True),
+                                          result.texts[name].splitlines(keepends=True),
+                                          f"a/{name.lstrip('/')}", f"b/{name.lstrip('/')}"))
+    text = "".join(parts)
+    return text if not text or text.endswith("\n") else text + "\n"

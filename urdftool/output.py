@@ -10,10 +10,10 @@ from urdftool.errors import ToolError
 
 
 def write_output(text: str, output: str | None, inputs: list[str] = (), in_place: bool = False,
-                 offer_in_place: bool = True) -> None:
-    """Print ``text`` or write it to ``output`` (temp file + rename). Refuses to overwrite one of
-    ``inputs`` unless ``in_place`` (the refusal suggests ``--in-place`` when the command has it:
-    ``offer_in_place``)."""
+                 offer_in_place: bool = True, encoding: str = "utf-8") -> None:
+    """Print ``text`` or write it to ``output`` (temp file + rename) in ``encoding``. Refuses to
+    overwrite one of ``inputs`` unless ``in_place`` (the refusal suggests ``--in-place`` when
+    the command has it: ``offer_in_place``)."""
     if output is None or output == "-":
         sys.stdout.write(text)
         return
@@ -28,7 +28,7 @@ def write_output(text: str, output: str | None, inputs: list[str] = (), in_place
         raise ToolError(f"{output}: directory {directory} does not exist")
     handle, temporary = tempfile.mkstemp(dir=directory, prefix=f".{target.name}.", suffix=".tmp")
     try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
+        with os.fdopen(handle, "w", encoding=encoding, newline="") as stream:
             stream.write(text)
             # mkstemp makes the file 0600: keep the mode of the file replaced, else the umask's
             try:

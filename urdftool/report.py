@@ -19,13 +19,16 @@ class Finding(NamedTuple):
     """What a rule found: a message at a place, with an optional fix hint.
 
     ``severity`` overrides the rule's default when a rule grades its own findings
-    (e.g. 2x over a bound is an error, 1x-2x a warning).
+    (e.g. 2x over a bound is an error, 1x-2x a warning). ``edits`` fix it
+    (``urdftool.edits.Edit``, in the files the user wrote; the rule's registration says how
+    safe they are).
     """
 
     message: str
     loc: Loc | None
     hint: str | None = None
     severity: str | None = None
+    edits: tuple = ()
 
 
 class Diagnostic(NamedTuple):
@@ -41,6 +44,7 @@ class Diagnostic(NamedTuple):
     # (innermost call first, as "path:line")
     instances: int = 1
     call_sites: tuple[tuple[str, ...], ...] = ()
+    fix: object = None  # urdftool.edits.Fix, when the finding has one
 
     def to_json(self) -> dict:
         data = self._asdict()
@@ -48,6 +52,10 @@ class Diagnostic(NamedTuple):
             del data["instances"], data["call_sites"]
         else:
             data["call_sites"] = [list(chain) for chain in self.call_sites]
+        if self.fix is None:
+            del data["fix"]
+        else:
+            data["fix"] = self.fix.to_json()
         return data
 
 
@@ -98,8 +106,11 @@ def group_instances(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
             result.append(first)
             continue
         sites = tuple(dict.fromkeys(site for d in members for site in d.call_sites))
+        fixes = [d.fix for d in members if d.fix is not None]  # each instance's edits
+        fix = fixes[0]._replace(edits=tuple(dict.fromkeys(
+            e for f in fixes for e in f.edits))) if fixes else None
         result.append(first._replace(message=first.message + sites_text(sites),
-                                     instances=len(sites), call_sites=sites))
+                                     instances=len(sites), call_sites=sites, fix=fix))
     return result
 
 
@@ -255,9 +266,12 @@ def format_sarif(report: Report | None, rules: dict | None = None,
         if region:
             location["physicalLocation"]["region"] = region
         message = d.message + (f" Fix: {d.hint}" if d.hint else "")
-        results.append({"ruleId": d.rule, "ruleIndex": index[d.rule],
-                        "level": _SARIF_LEVEL[d.severity], "message": {"text": message},
-                        "locations": [location]})
+        result = {"ruleId": d.rule, "ruleIndex": index[d.rule],
+                  "level": _SARIF_LEVEL[d.severity], "message": {"text": message},
+                  "locations": [location]}
+        if d.fix is not None:
+            result["fixes"] = [_sarif_fix(d.fix)]
+        results.append(result)
     invocation = {"executionSuccessful": tool_error is None}
     if tool_error is not None:
         invocation["toolExecutionNotifications"] = [
@@ -273,6 +287,19 @@ def format_sarif(report: Report | None, rules: dict | None = None,
                   "results": results}],
     }
     return json_safe(json.dumps(sarif, indent=2))
+
+
+def _sarif_fix(fix) -> dict:
+    """A finding's fix as a SARIF ``fix`` (one ``artifactChange`` per file)."""
+    changes: dict[str, list] = {}
+    for e in fix.edits:
+        changes.setdefault(e.path, []).append({
+            "deletedRegion": {"startLine": e.line, "startColumn": e.column,
+                              "endLine": e.end_line, "endColumn": e.end_column},
+            "insertedContent": {"text": e.text}})
+    return {"description": {"text": f"{fix.applicability} fix"},
+            "artifactChanges": [{"artifactLocation": {"uri": path}, "replacements": replacements}
+                                for path, replacements in changes.items()]}
 
 
 def format_statistics(report: Report, as_json: bool = False, rules: dict | None = None) -> str:

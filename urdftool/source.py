@@ -35,8 +35,8 @@ _ENCODING_DECL = r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2"
 
 
 class LoadOptions:
-    __slots__ = ("allow_env", "memory_mb", "packages", "sdf_model", "sdf_model_paths", "timeout",
-                 "untrusted", "xacro_args")
+    __slots__ = ("allow_env", "lenient", "memory_mb", "overlay", "packages", "sdf_model",
+                 "sdf_model_paths", "timeout", "untrusted", "xacro_args")
 
     def __init__(self, packages: dict[str, str] | None = None,
                  xacro_args: dict[str, str] | None = None, sdf_model: str | None = None,
@@ -53,6 +53,12 @@ class LoadOptions:
         self.allow_env = allow_env
         self.timeout = timeout  # seconds for one xacro expansion (None: no limit)
         self.memory_mb = memory_mb  # memory for the sandboxed expansion, above what is mapped
+        # files read from memory instead of the disk (resolved path -> text): a check looking
+        # through the safe fixes, or ``check --fix`` re-checking what it fixed
+        self.overlay: dict[str, str] = {}
+        # xacro: an expression naming something undefined is left as written instead of
+        # stopping the expansion (a check looking past the error it already reported)
+        self.lenient = False
 
 
 class Source:
@@ -214,6 +220,16 @@ def read_text(path: Path) -> str:
     return text
 
 
+def read_input(path: Path, options: LoadOptions | None) -> str:
+    """``read_text(path)``, or the text given for it in ``options.overlay``."""
+    overlay = getattr(options, "overlay", None)
+    if overlay:
+        text = overlay.get(str(path.resolve()))
+        if text is not None:
+            return text
+    return read_text(path)
+
+
 def _utf8_bytes(text: str) -> bytes:
     """The text as UTF-8 bytes with any encoding declaration made to agree."""
     return re.sub(_ENCODING_DECL, r"\1\2UTF-8\2", text, count=1).encode("utf-8")
@@ -261,7 +277,7 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
 
         sandbox.check_input(file_path, resolver)
         sandbox.confine(resolver, file_path, options)
-    text = read_text(file_path)
+    text = read_input(file_path, options)
     kind = detect_kind(file_path, text)
     if options.untrusted and kind != "urdf" and text.strip() and not sandbox.IN_CHILD \
             and sandbox.available():  # xacro, YAML, SDF: read in the sandboxed reader

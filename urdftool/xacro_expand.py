@@ -36,6 +36,7 @@ from urdftool.source import (
     _utf8_bytes,
     parse_text,
     quiet_stderr,
+    read_input,
     read_text,
 )
 from urdftool.xmlrepair import secure_parser
@@ -167,7 +168,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     interpreter = Interpreter(policy.deadline, read_yaml)
     saved = (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
              xacro.process_include, xacro.safe_eval, substitution_args._eval,
-             substitution_args._eval_env, substitution_args._eval_optenv)
+             substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text)
 
     def display_path(filename: str) -> str:
         candidate = Path(filename)
@@ -189,7 +190,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
                     raise OSError(f"{full}: not a regular file (a device or a pipe)")
                 if full.is_file() and full.stat().st_size > MAX_FILE_BYTES:
                     raise LimitExceeded(f"{full}: larger than {MAX_FILE_BYTES >> 20} MB")
-                text = read_text(full)
+                text = read_input(full, options)
             except (OutsidePackage, LimitExceeded) as exc:
                 xacro.filestack.pop()
                 raise xacro.XacroException(str(exc), exc=exc) from None
@@ -337,12 +338,23 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     substitution_args._eval_find, xacro.process_include = find, process_include
     xacro.safe_eval, substitution_args._eval = safe_eval, eval_substitution
     substitution_args._eval_env, substitution_args._eval_optenv = eval_env, eval_optenv
+    def lenient_eval_text(text, symbols):
+        """An expression naming something undefined (or computed from one) stays as written."""
+        try:
+            return saved[9](text, symbols)
+        except xacro.XacroException as exc:
+            if _cause(exc, (NameError, TypeError)) is None:
+                raise
+            return text
+
+    if getattr(options, "lenient", False):
+        xacro.eval_text = lenient_eval_text
     try:
         yield xacro
     finally:
         (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
          xacro.process_include, xacro.safe_eval, substitution_args._eval,
-         substitution_args._eval_env, substitution_args._eval_optenv) = saved
+         substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text) = saved
 
 
 def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Policy) -> Expansion:

@@ -1120,6 +1120,52 @@ def repair_and_parse(text: str, path: str):
 
 
 def _repair(text: str, path: str, problems: list):
+    written = text
+    fixed, _, root = _repair_text(text, path, problems)
+    if problems and fixed != written:
+        problems[:] = _attach_edits(written, fixed, path, problems)
+    return fixed, problems, root
+
+
+def _attach_edits(written: str, fixed: str, path: str, problems: list) -> list:
+    """Each problem with the edits that repair it, in the text as written: the repaired text
+    differs from it within lines only (no line moves), so each changed run of a line is one
+    edit, given to the nearest problem at or before it (a repair is made where the problem is
+    found, or after it: an end tag inserted where the element should end)."""
+    from difflib import SequenceMatcher
+
+    from urdftool.edits import edit, line_starts
+
+    old_lines, new_lines = written.split("\n"), fixed.split("\n")
+    if len(old_lines) != len(new_lines):
+        return problems
+    starts = line_starts(written)
+    targets = sorted((f.loc.line or 0, f.loc.column or 0, index)
+                     for index, (rule, f) in enumerate(problems)
+                     if rule != "xml.syntax" and f.loc is not None)
+    if not targets:
+        return problems
+    attached: dict[int, list] = {}
+    for number, (old, new) in enumerate(zip(old_lines, new_lines), start=1):
+        if old == new:
+            continue
+        base = starts[number - 1]
+        for tag, i1, i2, j1, j2 in SequenceMatcher(None, old, new, autojunk=False).get_opcodes():
+            if tag == "equal":
+                continue
+            position = (number, i1 + 1)
+            owner = targets[0][2]
+            for line, column, index in targets:
+                if (line, column) > position:
+                    break
+                owner = index
+            attached.setdefault(owner, []).append(
+                edit(path, written, base + i1, base + i2, new[j1:j2], starts))
+    return [(rule, f._replace(edits=tuple(attached[index])) if index in attached else f)
+            for index, (rule, f) in enumerate(problems)]
+
+
+def _repair_text(text: str, path: str, problems: list):
     text, declaration_shift = _fix_declaration(text, path, problems)
     root, error = _strict_parse(text)
     if error is None and not _may_hold_taglike_text(text):

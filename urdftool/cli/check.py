@@ -27,10 +27,19 @@ from urdftool.cli import (
               help="Only these rules or families (repeatable, or comma-separated).")
 @click.option("--ignore", multiple=True, metavar="RULE|FAMILY",
               help="Skip these rules or families (repeatable, or comma-separated).")
-@click.option("--fix", is_flag=True, help="Write the repaired XML (needs -o or --in-place).")
+@click.option("--fix", is_flag=True,
+              help="Apply the safe fixes of the findings (needs -o FILE or --in-place); the "
+                   "report is then what remains.")
+@click.option("--unsafe-fixes", is_flag=True,
+              help="With --fix or --diff: also the fixes that change values a person chose "
+                   "(derived inertias, swapped limits, mimic offsets...).")
+@click.option("--diff", is_flag=True,
+              help="Print the unified diff of what --fix would change and write nothing "
+                   "(exit 1 when something would change).")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), metavar="FILE",
               help="Write the report to FILE (any --format), not stdout. With --fix: where "
-                   "the repaired file goes (the report then goes to stdout or --output-file).")
+                   "the fixed file goes (a single-file input only; the report then goes to "
+                   "stdout or --output-file).")
 @click.option("--output-file", type=click.Path(dir_okay=False), metavar="FILE",
               help="Write the report to FILE, also with --fix.")
 @click.option("--show-info", is_flag=True,
@@ -44,7 +53,8 @@ from urdftool.cli import (
 @click.option("-q", "--quiet", is_flag=True,
               help="Print the findings only: no summary line, no progress.")
 @click.option("--in-place", is_flag=True,
-              help="With --fix: replace the file itself (atomically) instead of writing -o.")
+              help="With --fix: rewrite the files themselves (atomically), included files too; "
+                   "every file changed is listed.")
 @click.option("--model", "sdf_model", metavar="NAME",
               help="SDF input: the model of a world to check (default: the first).")
 @click.option("--model-path", "model_paths", multiple=True, metavar="DIR",
@@ -64,7 +74,8 @@ from urdftool.cli import (
 @click.option("--write-baseline", "write_baseline", type=click.Path(dir_okay=False),
               metavar="FILE", help="Record today's findings in FILE and exit 0.")
 @click.pass_context
-def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, output_file,
+def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixes, diff, output,
+            output_file,
             show_info, statistics, exit_zero, quiet, in_place, sdf_model, model_paths, no_cache,
             jobs, changed, baseline, write_baseline):
     """Lint robot descriptions (*.urdf, *.xacro, *.urdf.xacro, *.sdf); all findings in one pass.
@@ -100,16 +111,14 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, output, out
         raise ToolError("-o and --output-file both name the report: give one")
     if statistics and fmt not in ("text", "json"):
         raise ToolError(f"--statistics prints text or json, not {fmt}")
-    if fix:
-        from urdftool.fix import fixed_text
-        from urdftool.output import write_output
-
-        if len(paths) != 1 or not (output or in_place):
-            raise ToolError("--fix repairs one file: give exactly one PATH and -o OUT "
-                            "(or --in-place)")
-        write_output(fixed_text(paths[0]), output or paths[0], inputs=[paths[0]],
-                     in_place=in_place)
-    report = _run(paths, options, fmt, report_to, quiet)
+    if unsafe_fixes and not (fix or diff):
+        raise ToolError("--unsafe-fixes goes with --fix or --diff")
+    if fix or diff:
+        report = _fix(paths, options, output, in_place, unsafe_fixes, diff)
+        if diff:
+            ctx.exit(1 if report is None else 0)
+    else:
+        report = _run(paths, options, fmt, report_to, quiet)
     if write_baseline:
         from urdftool.baseline import write_baseline as write
 
@@ -182,3 +191,47 @@ def _write(text: str, report_to: str | None, paths: list[str]) -> None:
     from urdftool.output import write_output
 
     write_output(text, report_to, inputs=paths, offer_in_place=False)
+
+
+def _fix(paths, options, output, in_place, unsafe, diff):
+    """--fix / --diff of one file: write (or show) the fixed files; the report of what remains
+    (None for a --diff that changes something)."""
+    from urdftool.errors import ToolError
+    from urdftool.fix import encoded, fix_file, unified_diff
+    from urdftool.output import write_output
+    from urdftool.report import Report
+
+    if len(paths) != 1 or Path(paths[0]).is_dir() or not (diff or output or in_place):
+        raise ToolError("--fix repairs one file: give exactly one PATH and -o OUT "
+                        "(or --in-place, or --diff to see the changes)")
+    if output and in_place:
+        raise ToolError("give -o OUT or --in-place, not both")
+    result = fix_file(paths[0], options, unsafe)
+    changed = result.changed()
+    remaining = len(result.remaining.diagnostics)
+    summary = f"{result.fixed} fixed, {remaining} remaining"
+    if diff:
+        text = unified_diff(result)
+        if text:
+            click.echo(text, nl=False)
+        click.echo(summary + ("" if changed else " (nothing to change)"), err=True)
+        return None if changed else Report([result.remaining])
+    top = Path(paths[0]).resolve()
+    others = [name for name in changed if Path(name).resolve() != top]
+    if output:
+        if others:
+            raise ToolError("the fixes also change " + ", ".join(others) + ": with -o only a "
+                            "single-file input is fixed (use --in-place, or --diff to see them)")
+        name = next((n for n in result.texts if Path(n).resolve() == top), None)
+        if name is None:
+            raise ToolError(f"{paths[0]}: nothing was read")
+        text, encoding = encoded(name, result.originals[name], result.texts[name])
+        write_output(text, output, inputs=list(result.originals), encoding=encoding)
+    else:
+        for name in changed:
+            text, encoding = encoded(name, result.originals[name], result.texts[name])
+            write_output(text, name, inputs=list(result.originals), in_place=True,
+                         encoding=encoding)
+            click.echo(f"fixed {name}", err=True)
+    click.echo(summary, err=True)
+    return Report([result.remaining])

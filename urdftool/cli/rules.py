@@ -29,24 +29,25 @@ def command(rule_id, fmt):
                                                       if close else ""))
     if fmt == "json":
         click.echo(json.dumps([{"rule": r.id, "severity": r.severity, "summary": r.summary,
-                                "doc": r.doc, "bad": r.bad, "good": r.good} for r in rules],
+                                "doc": r.doc, "bad": r.bad, "good": r.good, "fix": r.fix} for r in rules],
                               indent=2))
         return
     console = stdout_console()
     if not rule_id:
         from rich.table import Table
 
-        table = Table("rule", "severity", "what it finds")
+        table = Table("rule", "severity", "fix", "what it finds")
         for r in rules:
-            table.add_row(r.id, r.severity, r.summary)
+            table.add_row(r.id, r.severity, r.fix or "", r.summary)
         console.print(table)
         console.print(f"{len(rules)} rules. 'urdftool rules RULE' explains one.")
         return
     from rich.syntax import Syntax
 
     for r in rules:
-        console.print(f"[bold]── {r.id}[/] ({r.severity}) ──")  # not a rule: as wide as the
-        # console, which is unbounded when piped
+        fix = f", {r.fix} fix" if r.fix else ""
+        console.print(f"[bold]── {r.id}[/] ({r.severity}{fix}) ──")  # not a rule: as wide as
+        # the console, which is unbounded when piped
         console.print(r.summary)
         if r.doc:
             console.print("\n" + " ".join(r.doc.split()))

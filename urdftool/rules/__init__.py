@@ -28,6 +28,7 @@ class Rule(NamedTuple):
     bad: str  # an example that triggers it
     good: str  # the same example, fixed
     check: Check
+    fix: str | None = None  # its findings' edits are "safe" or "unsafe" to apply (None: none)
 
     @property
     def family(self) -> str:
@@ -37,19 +38,25 @@ class Rule(NamedTuple):
 REGISTRY: dict[str, Rule] = {}
 
 
-def rule(rule_id: str, severity: str, summary: str, *, doc: str = "", bad: str = "", good: str = ""):
-    """Register a rule function under ``rule_id`` (``FAMILY.NAME``)."""
+def rule(rule_id: str, severity: str, summary: str, *, doc: str = "", bad: str = "", good: str = "",
+         fix: str | None = None):
+    """Register a rule function under ``rule_id`` (``FAMILY.NAME``). ``fix``: whether the edits
+    its findings carry are ``"safe"`` (the intent is unambiguous, nothing beyond the defect
+    changes: applied when checking and by ``check --fix``) or ``"unsafe"`` (they change values
+    a person chose: only with ``--unsafe-fixes``)."""
     family = rule_id.split(".", 1)[0]
     if family not in FAMILIES or "." not in rule_id:
         raise ValueError(f"rule id {rule_id!r} must be FAMILY.NAME with FAMILY in {FAMILIES}")
     if severity not in SEVERITIES:
         raise ValueError(f"severity {severity!r} of {rule_id}")
+    if fix not in (None, "safe", "unsafe"):
+        raise ValueError(f"fix {fix!r} of {rule_id}")
 
     def register(function: Check):
         if rule_id in REGISTRY:
             raise ValueError(f"rule {rule_id} registered twice")
         REGISTRY[rule_id] = Rule(rule_id, severity, summary, doc.strip(), bad.strip(),
-                                 good.strip(), function)
+                                 good.strip(), function, fix)
         return function
 
     return register
@@ -63,6 +70,24 @@ def source_rule(rule_id: str, severity: str, summary: str, **docs):
         return robot.source.problems_for(rule_id)
 
     rule(rule_id, severity, summary, **docs)(report_problems)
+
+
+def value_edits(robot: Robot, loc, names: tuple[str, ...], values: dict[str, str]):
+    """(edits, note) setting attributes of the element written at ``loc`` (its tag one of
+    ``names``) where each value was written (``urdftool.edits.value_edit``): all of them, or no
+    edit and a note saying why ("fix by hand: computed from `${...}`") to add to the hint."""
+    from urdftool.edits import ByHand, value_edit
+
+    edits, notes = [], []
+    for attribute, value in values.items():
+        made = value_edit(robot.source.texts, loc, names, attribute, value)
+        if isinstance(made, ByHand):
+            notes.append(str(made))
+        elif made is None:
+            return (), ""
+        else:
+            edits.append(made)
+    return ((), "; " + "; ".join(notes)) if notes else (tuple(edits), "")
 
 
 _loaded = False

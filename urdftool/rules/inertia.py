@@ -22,7 +22,7 @@ import math
 from urdftool.physics import links as analysis
 from urdftool.physics.links import AXIS_NAMES
 from urdftool.report import Finding
-from urdftool.rules import rule
+from urdftool.rules import rule, value_edits
 
 _INERTIA = '<inertia ixx="{0}" ixy="0" ixz="0" iyy="{1}" iyz="0" izz="{2}"/>'
 
@@ -81,6 +81,58 @@ def _block_hint(a) -> str | None:
         return None
     return ("the geometry gives " + analysis.inertial_xml(block, compact=True)
             + f"; see `urdftool inertia FILE --link {a.link.name}`")
+
+
+_COMPONENTS = {"ixx": (0, 0), "ixy": (0, 1), "ixz": (0, 2), "iyy": (1, 1), "iyz": (1, 2),
+               "izz": (2, 2)}
+
+
+def _tensor_edits(robot, a, values: dict[str, str]):
+    """(edits, note) writing ``values`` into the link's <inertia> where they were written."""
+    loc = a.link.inertial.inertia_loc if a.link.inertial is not None else None
+    if loc is None:
+        return (), ""
+    return value_edits(robot, loc, ("inertia",), values)
+
+
+def _derived_edits(robot, a):
+    """The geometry's tensor for the declared mass (about its centroid, in the inertial
+    frame) written into <inertia>."""
+    if a.derived is None:
+        return (), ""
+    return _tensor_edits(robot, a, {name: f"{a.derived[i][j]:.6g}"
+                                    for name, (i, j) in _COMPONENTS.items()})
+
+
+def _permuted_edits(robot, a):
+    """The declared tensor with its axes put back: the author's own numbers, moved to the
+    axes the geometry says they belong to."""
+    import itertools
+
+    d = [a.declared[i][i] for i in range(3)]
+    g = [a.derived[i][i] for i in range(3)]
+    if min(d) <= 0 or min(g) <= 0:
+        return (), ""
+    best = min(itertools.permutations(range(3)),
+               key=lambda p: sum(abs(math.log(d[p[k]] / g[k])) for k in range(3)))
+    names = {v: k for k, v in _COMPONENTS.items()}
+    written = dict(zip(_COMPONENTS, _written_values(robot, a.link.inertial.inertia_loc)))
+    values = {}
+    for name, (i, j) in _COMPONENTS.items():
+        source = names.get((min(best[i], best[j]), max(best[i], best[j])))
+        values[name] = written.get(source) or "0"
+    return _tensor_edits(robot, a, values)
+
+
+def _written_values(robot, loc) -> list:
+    from urdftool.edits import attribute, line_starts, tag_at
+
+    text = robot.source.texts.get(loc.path) if loc is not None else None
+    found = tag_at(text, line_starts(text), loc.line, loc.column, ("inertia",)) if text else None
+    if found is None:
+        return [None] * 6
+    spans = [attribute(text, found, name) for name in _COMPONENTS]
+    return [text[s[2]:s[3]] if s else None for s in spans]
 
 
 def _centroid_hint(a) -> str:
@@ -324,12 +376,15 @@ Links whose geometry is missing or unreadable are not checked.""",
       bad=_robot(_link("wheel", "0.1", ("1.0", "1.0", "1.0"),
                        '<cylinder radius="0.025" length="0.02"/>')),
       good=_robot(_link("wheel", "0.1", ("1.9e-05", "1.9e-05", "3.1e-05"),
-                        '<cylinder radius="0.025" length="0.02"/>')))
+                        '<cylinder radius="0.025" length="0.02"/>')),
+      fix="unsafe")
 def exceeds_geometry(robot):
     found = list(_analyses(robot, "exceeds-geometry"))
     impossible = {a.link.name for a in found if a.findings["exceeds-geometry"] == "error"}
     bodies = analysis.RigidBodies(robot) if impossible else None
     for a in found:
+        # permuted axes: that rule's fix keeps the author's numbers
+        edits, note = _derived_edits(robot, a) if "permuted-axes" not in a.findings else ((), "")
         b = a.bound
         m = a.mass
         severity, merged = a.findings["exceeds-geometry"], ""
@@ -344,7 +399,8 @@ def exceeds_geometry(robot):
                       f"({_g(b.reach)} m)² = {_g(b.bound)} kg·m²)"
                       + (f"; ixx = iyy = izz = {a.declared[0][0]:g} looks like a placeholder"
                          if analysis.is_placeholder(a.declared) else "") + merged,
-                      _inertia_loc(a.link), hint=_block_hint(a), severity=severity)
+                      _inertia_loc(a.link), hint=(_block_hint(a) or "") + note or None,
+                      severity=severity, edits=edits)
 
 
 def _merged_verdict(name: str, effect) -> tuple[str, str]:
@@ -386,16 +442,19 @@ by 30% or more as written and within 10% once permuted.""",
       bad=_robot(_link("leg", "1", ("0.0034", "0.0034", "0.00017"),
                        '<box size="0.2 0.04 0.04"/>')),
       good=_robot(_link("leg", "1", ("0.00027", "0.0035", "0.0035"),
-                        '<box size="0.2 0.04 0.04"/>')))
+                        '<box size="0.2 0.04 0.04"/>')),
+      fix="unsafe")
 def permuted_axes(robot):
     for a in _analyses(robot, "permuted-axes"):
+        edits, note = _permuted_edits(robot, a)
         d = [a.declared[i][i] for i in range(3)]
         g = [a.derived[i][i] for i in range(3)]
         yield Finding(f"link '{a.link.name}': declared ixx, iyy, izz = {_g(d[0])}, {_g(d[1])}, "
                       f"{_g(d[2])} kg·m² match its {a.derived_from} geometry's "
                       f"{_g(g[0])}, {_g(g[1])}, {_g(g[2])} with "
                       f"{_permutation_text(a.permutation)}", _inertia_loc(a.link),
-                      hint=f"write ixx=\"{_g(g[0])}\" iyy=\"{_g(g[1])}\" izz=\"{_g(g[2])}\"")
+                      hint=f"write ixx=\"{_g(g[0])}\" iyy=\"{_g(g[1])}\" izz=\"{_g(g[2])}\""
+                           + note, edits=edits)
 
 
 _SLIPS = {

@@ -20,9 +20,10 @@ from __future__ import annotations
 
 import math
 
+from urdftool.edits import number
 from urdftool.model import Joint, Robot
 from urdftool.report import Finding
-from urdftool.rules import rule
+from urdftool.rules import rule, value_edits
 
 TWO_PI = 2.0 * math.pi
 AXIS_TOLERANCE = 1e-4  # |norm - 1| above this is "not unit" (6-digit axes are fine)
@@ -120,7 +121,8 @@ def missing_limit(robot: Robot):
           '    <limit lower="1" upper="-1" effort="1" velocity="1"/></joint>\n</robot>',
       good='<robot name="r"><link name="a"/><link name="b"/>\n'
            '  <joint name="j" type="revolute"><parent link="a"/><child link="b"/>\n'
-           '    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n</robot>')
+           '    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n</robot>',
+      fix="unsafe")
 def lower_above_upper(robot: Robot):
     for joint in robot.joints:
         limit = joint.limit
@@ -128,9 +130,12 @@ def lower_above_upper(robot: Robot):
             continue
         if limit.lower is None or limit.upper is None or not limit.lower > limit.upper:
             continue
+        edits, note = value_edits(robot, limit.loc, ("limit",),
+                                  {"lower": number(limit.upper), "upper": number(limit.lower)})
         yield Finding(f"{label(joint)}: lower {fmt(limit.lower)} > upper {fmt(limit.upper)}: "
                       "the range is empty (only Bullet reads this as 'no limit')", limit.loc,
-                      hint=f'swap them: lower="{fmt(limit.upper)}" upper="{fmt(limit.lower)}"')
+                      hint=f'swap them: lower="{fmt(limit.upper)}" upper="{fmt(limit.lower)}"'
+                           + note, edits=edits)
 
 
 @rule("joint.frozen-range", "warning", "a moving joint's lower and upper limits are equal",
@@ -362,7 +367,8 @@ def zero_axis(robot: Robot):
       good='<robot name="r"><link name="a"/><link name="b"/>\n'
            '  <joint name="j" type="revolute"><parent link="a"/><child link="b"/>\n'
            '    <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n'
-           '</robot>')
+           '</robot>',
+      fix="safe")
 def axis_not_unit(robot: Robot):
     for joint, element in joint_elements(robot):
         if joint.axis is None or joint.type not in ("revolute", "continuous", "prismatic",
@@ -374,9 +380,12 @@ def axis_not_unit(robot: Robot):
         if norm == 0.0 or abs(norm - 1.0) <= AXIS_TOLERANCE:
             continue
         unit = " ".join(f"{a / norm:.6g}" for a in joint.axis)
+        loc = robot.loc(child(element, "axis"))
+        edits, note = value_edits(robot, loc, ("axis",),
+                                  {"xyz": " ".join(number(a / norm) for a in joint.axis)})
         yield Finding(f"{label(joint)}: axis {' '.join(fmt(a) for a in joint.axis)} has length "
                       f"{norm:.6g}; consumers normalise it silently",
-                      robot.loc(child(element, "axis")), hint=f'<axis xyz="{unit}"/>')
+                      loc, hint=f'<axis xyz="{unit}"/>' + note, edits=edits)
 
 
 @rule("joint.fixed-with-axis", "info", "an <axis> on a fixed joint",

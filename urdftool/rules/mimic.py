@@ -13,7 +13,7 @@ from __future__ import annotations
 from urdftool.limits import composed, mimic_chain, mimic_image, tolerance
 from urdftool.model import Robot
 from urdftool.report import Finding
-from urdftool.rules import rule
+from urdftool.rules import rule, value_edits
 from urdftool.rules.joint import fmt, label
 
 _ROBOT = '<robot name="r"><link name="a"/><link name="b"/><link name="c"/><link name="d"/>\n'
@@ -223,7 +223,8 @@ def mixed_kinds(robot: Robot):
       real mechanism cannot do what the model says. Usually the offset or the multiplier's sign
       is wrong, or the follower's limits are mirrored.""",
       bad=_example(_follower('<mimic joint="lead" multiplier="-1" offset="0"/>')),
-      good=_example(_follower('<mimic joint="lead" multiplier="-1" offset="1"/>')))
+      good=_example(_follower('<mimic joint="lead" multiplier="-1" offset="1"/>')),
+      fix="unsafe")
 def out_of_range(robot: Robot):
     for joint in robot.joints:
         info = mimic_image(robot, joint)
@@ -232,6 +233,7 @@ def out_of_range(robot: Robot):
         follower = info.follower_range
         how = "entirely outside" if info.disjoint else "beyond"
         width = info.image[1] - info.image[0]
+        edits = ()
         if width <= follower[1] - follower[0] + tolerance(follower):
             # the smallest change of offset that brings the image inside the limits
             shift = follower[1] - info.image[1] if info.image[1] > follower[1] else \
@@ -239,10 +241,14 @@ def out_of_range(robot: Robot):
             hint = (f'offset="{info.offset + shift:.10g}" keeps multiplier {fmt(info.multiplier)} '
                     f"and drives it through {_interval((info.image[0] + shift, info.image[1] + shift))}"
                     "; or fix the multiplier's sign or the limits")
+            edits, note = value_edits(robot, joint.mimic.loc, ("mimic",),
+                                      {"offset": f"{info.offset + shift:.10g}"})
+            hint += note
         else:
             hint = (f"the image is {fmt(width)} wide but the limits only "
                     f"{fmt(follower[1] - follower[0])}: fix the multiplier or the limits")
         yield Finding(f"{label(joint)} mimics '{info.leader.name}' (range "
                       f"{_interval(info.leader_range)}) with multiplier {fmt(info.multiplier)}, "
                       f"offset {fmt(info.offset)}: it is driven to {_interval(info.image)}, "
-                      f"{how} its limits {_interval(follower)}", joint.mimic.loc, hint=hint)
+                      f"{how} its limits {_interval(follower)}", joint.mimic.loc, hint=hint,
+                      edits=edits)

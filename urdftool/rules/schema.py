@@ -128,6 +128,22 @@ def rgba_problem(text: str) -> str | None:
     return None
 
 
+def _rgba_from_255(text: str) -> str | None:
+    """A 0-255 colour on the [0, 1] scale (alpha kept when it already is a fraction), or None
+    when ``text`` is not four numbers in [0, 255] with a colour component above 1."""
+    try:
+        values = [float(p) for p in text.split()]
+    except ValueError:
+        return None
+    if len(values) != 4 or not all(0.0 <= v <= 255.0 for v in values) \
+            or not any(v > 1.0 for v in values[:3]):
+        return None
+    from urdftool.edits import number
+
+    alpha = values[3] / 255.0 if values[3] > 1.0 else values[3]
+    return " ".join(number(round(v / 255.0, 6)) for v in values[:3]) + " " + number(alpha)
+
+
 def _version_tuple(text: str | None) -> tuple[int, int] | None:
     if text is None:
         return (1, 0)
@@ -191,11 +207,17 @@ class _Walk:
         return element in self._old_xacro
 
     def add(self, rule_id: str, message: str, loc, hint: str | None = None,
-            severity: str | None = None) -> None:
+            severity: str | None = None, edits: tuple = ()) -> None:
         """Record a finding; ``loc`` is a Loc or a function giving one (computed only here)."""
         if callable(loc):
             loc = loc()
-        self.findings.setdefault(rule_id, []).append(Finding(message, loc, hint, severity))
+        self.findings.setdefault(rule_id, []).append(Finding(message, loc, hint, severity, edits))
+
+    def rename(self, element, old: str, new: str) -> tuple:
+        """Edits renaming ``element`` (written <old>) to <new> where it was written."""
+        from urdftool.edits import rename_element
+
+        return rename_element(self.robot.source.texts, self.robot.loc(element), old, new)
 
     def attr_loc(self, element, name: str) -> Loc:
         """The element's place, moved to the attribute when it is on the element's first line."""
@@ -299,10 +321,14 @@ class _Walk:
         names = ", ".join(a for a, s in allowed.items() if not s.get("extension")) or "none"
         loc = self.attr_loc(element, name)
         if match:
+            from urdftool.edits import rename_attribute
+
             self.add("schema.unknown-attribute",
                      f"unknown attribute {name!r} on <{tag}>; did you mean {match!r}? "
                      f"(parsers ignore {name!r}, so {match!r} keeps its default)",
-                     loc, hint=f"rename {name}= to {match}=")
+                     loc, hint=f"rename {name}= to {match}=",
+                     edits=rename_attribute(self.robot.source.texts, self.robot.loc(element),
+                                            (tag,), name, match))
         else:
             self.add("schema.unknown-attribute",
                      f"attribute {name!r} is not part of <{tag}> in URDF (allowed: {names}); "
@@ -346,8 +372,15 @@ class _Walk:
         elif kind == "rgba":
             problem = rgba_problem(value)
             if problem:
-                self.add("schema.bad-rgba", f"{where} {problem}", loc,
-                         hint='write red, green, blue and alpha in [0, 1], e.g. rgba="1 0.5 0 1"')
+                hint, edits = 'write red, green, blue and alpha in [0, 1], e.g. rgba="1 0.5 0 1"', ()
+                scaled = _rgba_from_255(value)
+                if scaled is not None:
+                    from urdftool.rules import value_edits
+
+                    edits, note = value_edits(self.robot, self.robot.loc(element), (tag,),
+                                              {name: scaled})
+                    hint = f'write rgba="{scaled}" (0-255 scaled to [0, 1]){note}'
+                self.add("schema.bad-rgba", f"{where} {problem}", loc, hint=hint, edits=edits)
         elif kind == "int":
             if not _INT_RE.fullmatch(value.lstrip()):
                 self.add("schema.bad-value", f"{where} is not an integer", loc)
@@ -465,7 +498,7 @@ class _Walk:
         self.add("schema.unknown-element", message, self.robot.loc(child),
                  hint=f"write <{match} .../>" if match else
                  (sdf_hint or f"use one of {', '.join('<' + s + '>' for s in shapes)}"),
-                 severity="error")
+                 severity="error", edits=self.rename(child, child_tag, match) if match else ())
 
     def unknown_child(self, element, tag: str, child, child_tag: str, definition: dict,
                       counts: dict[str, int]) -> None:
@@ -500,17 +533,25 @@ class _Walk:
         if match:
             self.add("schema.unknown-element",
                      f"unknown element <{child_tag}> in <{tag}>; did you mean <{match}>? "
-                     "(parsers ignore it)", loc, hint=f"rename <{child_tag}> to <{match}>")
+                     "(parsers ignore it)", loc, hint=f"rename <{child_tag}> to <{match}>",
+                     edits=self.rename(child, child_tag, match))
             return
         legacy = self.table["legacy_elements"].get(child_tag)
+        edits = ()
+        if legacy and child_tag in _LEGACY_RENAMES:  # pre-1.0 name of a URDF element
+            new = _LEGACY_RENAMES[child_tag]
+            if new in children and element.find(new) is None:
+                edits = self.rename(child, child_tag, new)
         names = ", ".join(f"<{n}>" for n, s in children.items()
                           if not _child_spec(s).get("extension")) or "none"
         self.add("schema.unknown-element",
                  f"<{child_tag}> is not part of <{tag}> in URDF (allowed: {names}); "
                  "URDF parsers ignore it", loc,
                  hint=legacy or "remove it, or keep it if a tool you use reads it",
-                 severity="info")
+                 severity="info", edits=edits)
 
+
+_LEGACY_RENAMES = {"joint_properties": "dynamics"}  # same attributes, new name
 
 _last: tuple[object, dict[str, list[Finding]]] | None = None
 
@@ -552,7 +593,8 @@ link, `<plane>`), plugin-specific transmission children, and a root element othe
                          '        <cylinder radius="0.1" length="0.05"/>\n'
                          '      </geometry>\n    </visual>\n  </link>\n'
                          '  <joint name="j" type="fixed"><parent link="base"/>'
-                         '<child link="wheel"/></joint>'))
+                         '<child link="wheel"/></joint>'),
+      fix="safe")
 def unknown_element(robot):
     return findings(robot, "schema.unknown-element")
 
@@ -572,7 +614,8 @@ Namespaced attributes (`drake:...`) and PyBullet's documented `group`, `mask` an
                         '    <parent link="base"/><child link="arm"/>\n  </joint>'),
       good=_ROBOT.format('<link name="arm"/>\n  <joint name="j" type="fixed">\n'
                          '    <origin xyz="0 0 0.1" rpy="0 0 1.57"/>\n'
-                         '    <parent link="base"/><child link="arm"/>\n  </joint>'))
+                         '    <parent link="base"/><child link="arm"/>\n  </joint>'),
+      fix="safe")
 def unknown_attribute(robot):
     return findings(robot, "schema.unknown-attribute")
 
@@ -716,7 +759,8 @@ lost.
       bad='<robot name="r">\n  <material name="orange">\n    <color rgba="255 128 0 1"/>\n'
           '  </material>\n  <link name="base"/>\n</robot>',
       good='<robot name="r">\n  <material name="orange">\n    <color rgba="1 0.5 0 1"/>\n'
-           '  </material>\n  <link name="base"/>\n</robot>')
+           '  </material>\n  <link name="base"/>\n</robot>',
+      fix="safe")
 def bad_rgba(robot):
     return findings(robot, "schema.bad-rgba")
 

@@ -197,6 +197,17 @@ def _rewrite(robot: Robot, element, tag: str) -> str:
     return new
 
 
+def _prefix_edits(robot: Robot, element, tag: str) -> tuple:
+    """Edits writing the element with the xacro: prefix (start and end tag), declaring the
+    namespace on the file's root when it is not."""
+    from urdftool.edits import declare_namespace, rename_element
+
+    loc = robot.loc(element)
+    texts = robot.source.texts
+    edits = rename_element(texts, loc, tag, "xacro:" + tag)
+    return edits + declare_namespace(texts, loc.path, "xacro", XACRO_NS) if edits else ()
+
+
 def _namespace_note(robot: Robot, element) -> str:
     """A reminder to declare the xacro namespace when the element's file does not."""
     text = robot.source.texts.get(robot.loc(element).path)
@@ -225,14 +236,52 @@ _EFFECT = {
       copies them into the URDF: the property is never defined, the file never included, the
       macro never defined. Write them with the prefix.""",
       bad=_HEAD + '  <property name="width" value="0.3"/>\n  <link name="a"/>\n</robot>',
-      good=_HEAD + '  <xacro:property name="width" value="0.3"/>\n  <link name="a"/>\n</robot>')
+      good=_HEAD + '  <xacro:property name="width" value="0.3"/>\n  <link name="a"/>\n</robot>',
+      fix="safe")
 def unprefixed_tag(robot: Robot):
     for element in _unprefixed_tags(robot):
         tag = element.tag
         yield Finding(f"<{tag}> without the xacro: prefix is ignored by xacro 2 and copied into "
                       f"the URDF: {_EFFECT[tag]}", robot.loc(element),
                       hint=f"write {_rewrite(robot, element, tag)}"
-                           f"{_namespace_note(robot, element)}")
+                           f"{_namespace_note(robot, element)}",
+                      edits=_prefix_edits(robot, element, tag))
+    yield from _unprefixed_in_unread_files(robot)
+
+
+def _unprefixed_in_unread_files(robot: Robot):
+    """Unprefixed tags of the files only unprefixed includes name (xacro never read them):
+    found now, so that one pass repairs the whole chain of includes."""
+    from lxml import etree
+
+    from urdftool.edits import declare_namespace, rename_element
+    from urdftool.model import Loc
+    from urdftool.xmlrepair import secure_parser
+
+    for path, text in robot_files(robot).items():
+        if path in robot.source.texts:
+            continue
+        try:
+            root = etree.fromstring(text.encode("utf-8"), secure_parser(recover=True))
+        except (etree.XMLSyntaxError, ValueError):
+            continue
+        if root is None or root.tag != "robot":
+            continue
+        lines = text.splitlines()
+        texts = {path: text}
+        for element in root.iter(*XACRO_TAGS):
+            if _in_foreign_block(element) or (element.tag == "include"
+                                              and _is_sdf_include(element)):
+                continue
+            tag, line = element.tag, element.sourceline
+            column = lines[line - 1].find("<" + tag) + 1 if line and line <= len(lines) else 0
+            loc = Loc(path, line, column or None)
+            edits = rename_element(texts, loc, tag, "xacro:" + tag)
+            if edits:
+                edits += declare_namespace(texts, path, "xacro", XACRO_NS)
+            yield Finding(f"<{tag}> without the xacro: prefix is ignored by xacro 2 (in a file "
+                          f"only an unprefixed <include> names): {_EFFECT[tag]}", loc,
+                          hint=f"write <xacro:{tag} ...>", edits=edits)
 
 
 def _unprefixed_tags(robot: Robot):
@@ -282,10 +331,12 @@ def _resolve(robot: Robot, spec: str, base: Path) -> Path | None:
     return path if is_file(path) else None
 
 
-def macro_names(robot: Robot) -> dict[str, str]:
-    """Macro name -> file defining it, from every file xacro read and every file an unprefixed
-    (hence never processed) <include> names, transitively."""
-    found: dict[str, str] = {}
+def robot_files(robot: Robot) -> dict[str, str]:
+    """Every file of the robot: those xacro read, and those that unprefixed (hence never
+    processed) <include>s name, transitively (path -> text)."""
+    global _files_memo
+    if _files_memo is not None and _files_memo[0] is robot:
+        return _files_memo[1]
     texts: dict[str, str] = dict(robot.source.texts)
     pending: list[tuple[str, str]] = list(texts.items())
     # files named by unprefixed includes that survived expansion
@@ -295,27 +346,46 @@ def macro_names(robot: Robot) -> dict[str, str]:
             if filename and not _in_foreign_block(element):
                 base = Path(robot.loc(element).path).resolve().parent
                 path = _resolve(robot, filename, base)
-                if path is not None and str(path) not in texts:
+                if path is not None and _shown(path) not in texts:
                     try:
                         text = path.read_text(encoding="utf-8", errors="replace")
                     except OSError:
                         continue
-                    texts[str(path)] = text
-                    pending.append((str(path), text))
+                    texts[_shown(path)] = text
+                    pending.append((_shown(path), text))
     while pending:
         path, text = pending.pop()
-        for name in _MACRO_RE.findall(text):
-            found.setdefault(name, path)
         for spec in _INCLUDE_RE.findall(text):
             target = _resolve(robot, spec, Path(path).resolve().parent)
-            if target is None or str(target) in texts or len(texts) > 200:
+            if target is None or _shown(target) in texts or len(texts) > 200:
                 continue
             try:
                 included = target.read_text(encoding="utf-8", errors="replace")
             except OSError:
                 continue
-            texts[str(target)] = included
-            pending.append((str(target), included))
+            texts[_shown(target)] = included
+            pending.append((_shown(target), included))
+    _files_memo = (robot, texts)
+    return texts
+
+
+_files_memo: tuple | None = None
+
+
+def _shown(path: Path) -> str:
+    """A path as reports show it: relative to the working directory when under it."""
+    try:
+        return str(path.resolve().relative_to(Path.cwd()))
+    except ValueError:
+        return str(path)
+
+
+def macro_names(robot: Robot) -> dict[str, str]:
+    """Macro name -> file defining it, from every file of the robot (``robot_files``)."""
+    found: dict[str, str] = {}
+    for path, text in robot_files(robot).items():
+        for name in _MACRO_RE.findall(text):
+            found.setdefault(name, path)
     return found
 
 
@@ -327,7 +397,8 @@ def macro_names(robot: Robot) -> dict[str, str]:
       bad=_HEAD + '  <xacro:macro name="body"><link name="base"/></xacro:macro>\n'
                   '  <link name="world"/>\n  <body/>\n</robot>',
       good=_HEAD + '  <xacro:macro name="body"><link name="base"/></xacro:macro>\n'
-                   '  <link name="world"/>\n  <xacro:body/>\n</robot>')
+                   '  <link name="world"/>\n  <xacro:body/>\n</robot>',
+      fix="safe")
 def unprefixed_macro_call(robot: Robot):
     empty = not robot.links
     for element, defined_in in _unprefixed_calls(robot):
@@ -340,7 +411,8 @@ def unprefixed_macro_call(robot: Robot):
         yield Finding(message, robot.loc(element),
                       hint=f"write {_rewrite(robot, element, tag)}"
                            f"{_namespace_note(robot, element)}",
-                      severity="error" if empty else None)
+                      severity="error" if empty else None,
+                      edits=_prefix_edits(robot, element, tag))
 
 
 def _unprefixed_calls(robot: Robot):

@@ -26,6 +26,7 @@ source_rule(
     `version="0.0"`. urdftool reads on and warns.""",
     bad='<?xml version="0.0"?>\n<robot name="r"><link name="a"/></robot>',
     good='<?xml version="1.0"?>\n<robot name="r"><link name="a"/></robot>',
+    fix="safe",
 )
 
 source_rule(
@@ -51,6 +52,7 @@ source_rule(
     good=('<robot name="r"><link name="a"/>\n'
           '  <gazebo reference="a">\n    <material>Gazebo/Orange</material>\n  </gazebo>\n'
           '</robot>'),
+    fix="safe",
 )
 
 source_rule(
@@ -63,6 +65,7 @@ source_rule(
         '    <parent link="a"/><child link="b"/>\n  </ioint>\n  <link name="b"/>\n</robot>',
     good='<robot name="r">\n  <link name="a"/>\n  <joint name="j" type="fixed">\n'
          '    <parent link="a"/><child link="b"/>\n  </joint>\n  <link name="b"/>\n</robot>',
+    fix="safe",
 )
 
 source_rule(
@@ -76,6 +79,7 @@ source_rule(
          '<box size="1 1 1"/></geometry></visual>\n  </link>\n</robot>'),
     good=('<robot name="r">\n  <link name="a"/>\n  <link name="b">\n    <visual><geometry>'
           '<box size="1 1 1"/></geometry></visual>\n  </link>\n</robot>'),
+    fix="safe",
 )
 
 source_rule(
@@ -89,6 +93,7 @@ source_rule(
     good=('<robot name="r">\n  <link name="a"/><link name="b"/>\n'
           '  <joint name="j" type="fixed">\n    <origin xyz="0 0 1"/>\n'
           '    <parent link="a"/><child link="b"/>\n  </joint>\n</robot>'),
+    fix="safe",
 )
 
 source_rule(
@@ -104,6 +109,7 @@ source_rule(
     good=('<robot name="r">\n  <link name="a"/><link name="b"/>\n'
           '  <joint name="j" type="revolute">\n    <parent link="a"/><child link="b"/>\n'
           '    <limit effort="10" velocity="1" lower="-1" upper="1"/>\n  </joint>\n</robot>'),
+    fix="safe",
 )
 
 source_rule(
@@ -114,6 +120,7 @@ source_rule(
     elements the root can hold, urdftool reads them as part of the robot.""",
     bad=('<robot name="r">\n  <link name="a"/>\n</robot>\n  <link name="b"/>\n</robot>'),
     good=('<robot name="r">\n  <link name="a"/>\n  <link name="b"/>\n</robot>'),
+    fix="unsafe",
 )
 
 source_rule(
@@ -126,6 +133,7 @@ source_rule(
         '<geometry><box size="1 1 1"/></geometry></visual></link></robot>',
     good='<robot name="r"><link name="a"><visual><origin xyz="0 0 0"/>'
          '<geometry><box size="1 1 1"/></geometry></visual></link></robot>',
+    fix="safe",
 )
 
 source_rule(
@@ -138,6 +146,7 @@ source_rule(
         '</visual></link></robot>',
     good='<robot name="r"><link name="a"><visual><geometry><box size="1 1 1"/></geometry>'
          '</visual></link></robot>',
+    fix="safe",
 )
 
 source_rule(
@@ -146,6 +155,7 @@ source_rule(
     a stray `/` or `,`, attributes on an end tag, `</` without a name. urdftool removes them.""",
     bad='<robot name="r"><link name="a", type="x"/></robot>',
     good='<robot name="r"><link name="a" type="x"/></robot>',
+    fix="unsafe",
 )
 
 source_rule(
@@ -154,6 +164,7 @@ source_rule(
     parsers) and a comment runs until `-->`: an unterminated one swallows the file.""",
     bad='<robot name="r">\n  <!-- ---- links ---- -->\n  <link name="a"/>\n</robot>',
     good='<robot name="r">\n  <!-- ==== links ==== -->\n  <link name="a"/>\n</robot>',
+    fix="safe",
 )
 
 source_rule(
@@ -164,6 +175,7 @@ source_rule(
     urdftool reads them as spaces.""",
     bad='<robot name="r">\x0c<link name="a"/></robot>',
     good='<robot name="r"> <link name="a"/></robot>',
+    fix="safe",
 )
 
 source_rule(
@@ -175,4 +187,5 @@ source_rule(
     bad='<robot name="r">\n  <xacro:property name="w" value="1"/>\n  <link name="a"/>\n</robot>',
     good=('<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
           '  <xacro:property name="w" value="1"/>\n  <link name="a"/>\n</robot>'),
+    fix="unsafe",
 )
