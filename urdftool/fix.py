@@ -12,7 +12,7 @@ from __future__ import annotations
 import codecs
 from pathlib import Path
 
-from urdftool.check import CheckOptions, check_once, finish, overlay_options
+from urdftool.check import CheckOptions, check_file, check_once, overlay_options
 from urdftool.edits import apply
 from urdftool.errors import ToolError
 from urdftool.report import FileReport
@@ -37,11 +37,15 @@ class FixResult:
 
 def fix_file(path: str | Path, options: CheckOptions, unsafe: bool = False) -> FixResult:
     """Fix ``path`` (and the files it includes) in memory."""
+    import copy
+
     originals: dict[str, str] = {}
     texts: dict[str, str] = {}
     fixed: set = set()
+    reading = copy.copy(options.load)
+    reading.lenient = True  # past undefined xacro names: the rest still gets its fixes
     for _ in range(MAX_ROUNDS):
-        source, _, diagnostics = check_once(path, options, overlay_options(options.load, texts))
+        source, _, diagnostics = check_once(path, options, overlay_options(reading, texts))
         for name, text in source.texts.items():
             originals.setdefault(name, text)
             texts.setdefault(name, text)
@@ -64,8 +68,9 @@ def fix_file(path: str | Path, options: CheckOptions, unsafe: bool = False) -> F
                      if any(e in made for e in d.fix.edits))
         if not changed:
             break
-    source, robot, diagnostics = check_once(path, options, overlay_options(options.load, texts))
-    remaining = finish(source, robot, diagnostics, texts)
+    final = copy.copy(options)
+    final.load = overlay_options(options.load, texts)
+    remaining = check_file(path, final)  # looking through what could not be fixed
     return FixResult(originals, texts, len(fixed), remaining)
 
 

@@ -1132,8 +1132,6 @@ def _attach_edits(written: str, fixed: str, path: str, problems: list) -> list:
     differs from it within lines only (no line moves), so each changed run of a line is one
     edit, given to the nearest problem at or before it (a repair is made where the problem is
     found, or after it: an end tag inserted where the element should end)."""
-    from difflib import SequenceMatcher
-
     from urdftool.edits import edit, line_starts
 
     old_lines, new_lines = written.split("\n"), fixed.split("\n")
@@ -1150,7 +1148,7 @@ def _attach_edits(written: str, fixed: str, path: str, problems: list) -> list:
         if old == new:
             continue
         base = starts[number - 1]
-        for tag, i1, i2, j1, j2 in SequenceMatcher(None, old, new, autojunk=False).get_opcodes():
+        for tag, i1, i2, j1, j2 in _line_changes(old, new):
             if tag == "equal":
                 continue
             position = (number, i1 + 1)
@@ -1163,6 +1161,22 @@ def _attach_edits(written: str, fixed: str, path: str, problems: list) -> list:
                 edit(path, written, base + i1, base + i2, new[j1:j2], starts))
     return [(rule, f._replace(edits=tuple(attached[index])) if index in attached else f)
             for index, (rule, f) in enumerate(problems)]
+
+
+def _line_changes(old: str, new: str) -> list:
+    """The changed runs of a line (difflib opcodes). A long line (a hostile one-line file) is
+    one run between the common prefix and suffix: difflib is quadratic."""
+    if len(old) + len(new) <= 4000:
+        from difflib import SequenceMatcher
+
+        return SequenceMatcher(None, old, new, autojunk=False).get_opcodes()
+    head = 0
+    while head < min(len(old), len(new)) and old[head] == new[head]:
+        head += 1
+    tail = 0
+    while tail < min(len(old), len(new)) - head and old[-1 - tail] == new[-1 - tail]:
+        tail += 1
+    return [("replace", head, len(old) - tail, head, len(new) - tail)]
 
 
 def _repair_text(text: str, path: str, problems: list):

@@ -98,10 +98,13 @@ def _tensor_edits(robot, a, values: dict[str, str]):
 def _derived_edits(robot, a):
     """The geometry's tensor for the declared mass (about its centroid, in the inertial
     frame) written into <inertia>."""
-    if a.derived is None:
+    if a.derived is not None:
+        return _tensor_edits(robot, a, {name: f"{a.derived[i][j]:.6g}"
+                                        for name, (i, j) in _COMPONENTS.items()})
+    block = analysis.derived_inertial(a)  # in the link frame: the inertial's when not rotated
+    if block is None or a.link.inertial.origin.rpy != (0.0, 0.0, 0.0):
         return (), ""
-    return _tensor_edits(robot, a, {name: f"{a.derived[i][j]:.6g}"
-                                    for name, (i, j) in _COMPONENTS.items()})
+    return _tensor_edits(robot, a, {name: f"{block[name]:.6g}" for name in _COMPONENTS})
 
 
 def _permuted_edits(robot, a):
@@ -345,16 +348,19 @@ principal axes, so I1 + I2 - I3 = 2C ≥ 0. A tensor that breaks this is not the
 mass distribution; physics engines that check it (Drake, MuJoCo) refuse it, others integrate
 unphysical motion. Equality is a flat plate; a relative tolerance of 1% of the largest moment
 lets rounded CAD exports and thin rods through.""",
-      bad=_robot(_link("a", "1", ("0.01", "0.01", "0.05"))),
-      good=_robot(_link("a", "1", ("0.01", "0.01", "0.02"))))
+      bad=_robot(_link("a", "1", ("0.01", "0.01", "0.05"), '<box size="0.3 0.3 0.1"/>')),
+      good=_robot(_link("a", "1", ("0.01", "0.01", "0.02"), '<box size="0.3 0.3 0.1"/>')),
+      fix="unsafe")
 def triangle_inequality(robot):
     for a in _analyses(robot, "triangle-inequality"):
         low, mid, high = a.principal
         excess = high - (low + mid)
+        edits, note = _derived_edits(robot, a)
         yield Finding(f"link '{a.link.name}': principal moments {_g(low)} + {_g(mid)} < "
                       f"{_g(high)} kg·m² (short by {excess / high:.0%} of the largest): no mass "
                       "distribution has these moments", _inertia_loc(a.link),
-                      hint=_block_hint(a) or "recompute the inertia from the link's shape")
+                      hint=(_block_hint(a) or "recompute the inertia from the link's shape")
+                      + note, edits=edits)
 
 
 # -- against the geometry --------------------------------------------------------------------

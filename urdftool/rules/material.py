@@ -15,7 +15,7 @@ import math
 
 from urdftool.model import Robot, parse_float
 from urdftool.report import Finding
-from urdftool.rules import rule
+from urdftool.rules import rule, value_edits
 
 
 def _child(element, tag: str):
@@ -82,9 +82,11 @@ _LINK = '<link name="a"><visual><geometry><box size="1 1 1"/></geometry>'
       current urdfdom quietly gives the visual an empty material, so RViz and Gazebo show it in
       the default colour. A definition that only comes in a *later* link is too late: urdfdom
       reads links in order.""",
-      bad='<robot name="r">' + _LINK + '<material name="grey"/></visual></link>\n</robot>',
+      bad='<robot name="r">\n  <material name="grey"><color rgba="0.5 0.5 0.5 1"/></material>\n'
+          '  ' + _LINK + '<material name="gray"/></visual></link>\n</robot>',
       good='<robot name="r">\n  <material name="grey"><color rgba="0.5 0.5 0.5 1"/></material>\n'
-           '  ' + _LINK + '<material name="grey"/></visual></link>\n</robot>')
+           '  ' + _LINK + '<material name="grey"/></visual></link>\n</robot>',
+      fix="safe")
 def undefined(robot: Robot):
     defined = {m.get("name") for m in robot.elements("material")
                if m.get("name") is not None and _defines(m)}
@@ -109,12 +111,21 @@ def undefined(robot: Robot):
                        f"only later, in link '{where}'; urdfdom reads links in order, so this "
                        "visual gets no colour")
             hint = f"move the definition of '{name}' to a top-level <material> before the links"
-        else:
+        edits = ()
+        if where is None:
             message = (f"link '{link.get('name')}': material '{name}' is never defined; it is "
                        "shown in the default colour")
             hint = (f'add <material name="{name}"><color rgba="R G B A"/></material> under '
                     "<robot>, or a <color> inside this <material>")
-        yield Finding(message, robot.loc(material), hint=hint)
+            import difflib  # only on this path
+
+            match = difflib.get_close_matches(name, sorted(defined - {None}), n=2, cutoff=0.75)
+            if len(match) == 1:  # a typo of one defined material
+                message += f"; did you mean '{match[0]}'?"
+                edits, note = value_edits(robot, robot.loc(material), ("material",),
+                                          {"name": match[0]})
+                hint = f'write <material name="{match[0]}"/>' + note
+        yield Finding(message, robot.loc(material), hint=hint, edits=edits)
 
 
 @rule("material.no-color", "warning", "a top-level material without a colour or texture",

@@ -14,7 +14,7 @@ import functools
 from collections.abc import Iterator
 
 from urdftool.report import Finding
-from urdftool.rules import rule
+from urdftool.rules import rule, value_edits
 
 
 def _urdf_only(check):
@@ -160,7 +160,8 @@ The message suggests the closest defined link name.
                         '    <child link="arm"/>\n  </joint>'),
       good=_ROBOT.format('  <link name="base_link"/>\n  <link name="arm"/>\n'
                          '  <joint name="j" type="fixed">\n    <parent link="base_link"/>\n'
-                         '    <child link="arm"/>\n  </joint>'))
+                         '    <child link="arm"/>\n  </joint>'),
+      fix="safe")
 @_urdf_only
 def missing_link(robot) -> Iterator[Finding]:
     names = _link_names(robot)
@@ -173,11 +174,18 @@ def missing_link(robot) -> Iterator[Finding]:
 
             match = difflib.get_close_matches(name, names, n=1, cutoff=0.6)
             message = f"joint '{joint.name}': {end} link '{name}' is not defined"
+            loc = _end_loc(robot, joint, element, end)
+            edits, note = (), ""
             if match:
                 message += f"; did you mean '{match[0]}'?"
-            yield Finding(message, _end_loc(robot, joint, element, end),
-                          hint=f'write <{end} link="{match[0]}"/>' if match
-                          else f'define <link name="{name}"/> or name an existing link')
+                # the typo mended: unless the link already has a parent (a second one)
+                children = {j.child for j in robot.joints}
+                if end == "parent" or match[0] not in children:
+                    edits, note = value_edits(robot, loc, (end,), {"link": match[0]})
+            yield Finding(message, loc,
+                          hint=(f'write <{end} link="{match[0]}"/>' + note) if match
+                          else f'define <link name="{name}"/> or name an existing link',
+                          edits=edits)
 
 
 @rule("structure.self-joint", "error", "a joint whose parent and child are the same link",
