@@ -258,6 +258,8 @@ def _unprefixed_in_unread_files(robot: Robot):
     from urdftool.model import Loc
     from urdftool.xmlrepair import secure_parser
 
+    if robot.root is None or next(robot.root.iter("include"), None) is None:
+        return  # no unprefixed include: xacro read every file
     for path, text in robot_files(robot).items():
         if path in robot.source.texts:
             continue
@@ -346,7 +348,7 @@ def robot_files(robot: Robot) -> dict[str, str]:
             if filename and not _in_foreign_block(element):
                 base = Path(robot.loc(element).path).resolve().parent
                 path = _resolve(robot, filename, base)
-                if path is not None and _shown(path) not in texts:
+                if path is not None and _shown(path) not in texts and _small(path):
                     try:
                         text = path.read_text(encoding="utf-8", errors="replace")
                     except OSError:
@@ -357,7 +359,8 @@ def robot_files(robot: Robot) -> dict[str, str]:
         path, text = pending.pop()
         for spec in _INCLUDE_RE.findall(text):
             target = _resolve(robot, spec, Path(path).resolve().parent)
-            if target is None or _shown(target) in texts or len(texts) > 200:
+            if target is None or _shown(target) in texts or len(texts) > 200 \
+                    or not _small(target):
                 continue
             try:
                 included = target.read_text(encoding="utf-8", errors="replace")
@@ -370,6 +373,16 @@ def robot_files(robot: Robot) -> dict[str, str]:
 
 
 _files_memo: tuple | None = None
+
+
+def _small(path: Path) -> bool:
+    """Not larger than xacro_expand reads (a huge file is xacro.limit-exceeded, not read)."""
+    from urdftool.xacro_expand import MAX_FILE_BYTES
+
+    try:
+        return path.stat().st_size <= MAX_FILE_BYTES
+    except OSError:
+        return False
 
 
 def _shown(path: Path) -> str:
