@@ -21,8 +21,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from urdftool.check import CheckOptions, check_file  # noqa: E402
-from urdftool.fix import fix_file  # noqa: E402
+from urdftool.check import CheckOptions, check_file
+from urdftool.fix import fix_file
 
 BASES = {
     "smartcar": "smartcar/corrected/smartcar.urdf",

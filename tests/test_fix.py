@@ -103,6 +103,76 @@ def test_diff_writes_nothing_and_in_place_lists_included_files(tmp_path):
     assert run_urdftool("check", "--diff", main).code == 0
 
 
+@pytest.mark.parametrize("name", ["smartcar", "open_manipulator"])
+def test_untrusted_fix_reads_in_the_sandbox_and_writes_only_the_files_listed(
+        name, tmp_path, monkeypatch):
+    """Under --untrusted the look-through and every round of --fix read the xacro (the texts
+    fixed so far given in memory) in the sandboxed reader, never here; the result is the
+    trusted run's, and only the files listed as fixed change."""
+    from urdftool import sandbox, xacro_expand
+
+    trusted, untrusted = _copy(name, tmp_path / "t"), _copy(name, tmp_path / "u")
+    main = next(trusted.glob("*.urdf.xacro")).name
+    done = run_urdftool("check", "--trusted", "--fix", "--unsafe-fixes", "--in-place",
+                        trusted / main)
+    before = {p: p.read_bytes() for p in untrusted.rglob("*") if p.is_file()}
+
+    def no_expansion_here(*args):
+        raise AssertionError("xacro expanded outside the sandboxed reader")
+
+    monkeypatch.setattr(xacro_expand, "_xacro_pass", no_expansion_here)
+    monkeypatch.setenv("CI", "true")  # untrusted by default
+    fixed = run_urdftool("check", "--fix", "--unsafe-fixes", "--in-place", untrusted / main)
+    assert sandbox.available() and fixed.code == done.code, fixed.err
+    assert fixed.err.replace(str(untrusted), "") == done.err.replace(str(trusted), "")
+    changed = {p for p in before if p.read_bytes() != before[p]}
+    assert changed and {f"fixed {p}" for p in changed} == {
+        line for line in fixed.err.splitlines() if line.startswith("fixed ")}
+    for path in changed:
+        assert path.read_bytes() == (trusted / path.relative_to(untrusted)).read_bytes()
+    assert {p for p in untrusted.rglob("*") if p.is_file()} == set(before)
+
+
+def test_untrusted_fix_never_reaches_an_include_outside_the_package(tmp_path):
+    """An unprefixed include naming a file outside the package: trusted, its unprefixed tags
+    are fixed too; untrusted, it is neither read nor changed."""
+    package = tmp_path / "pkg"
+    package.mkdir()
+    (package / "package.xml").write_text("<package><name>pkg</name></package>")
+    outside = tmp_path / "outside.xacro"
+    outside.write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+                       '  <property name="w" value="1"/>\n</robot>\n')
+    path = package / "r.urdf.xacro"
+    path.write_text('<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+                    '  <include filename="../outside.xacro"/>\n  <link name="a"/>\n</robot>\n')
+    trusted = run_urdftool("check", "--trusted", "--diff", path)
+    assert trusted.code == 1 and '+  <xacro:property name="w"' in trusted.out
+    untrusted = run_urdftool("check", "--untrusted", "--diff", path)
+    assert untrusted.code == 1 and untrusted.out.count("+++ b/") == 1
+    assert '+  <xacro:include filename="../outside.xacro"/>' in untrusted.out
+    assert run_urdftool("check", "--untrusted", "--fix", "--in-place", path).code in (0, 1)
+    assert "<property" in outside.read_text()
+
+
+def test_diff_cannot_inject_ci_commands_or_terminal_escapes(tmp_path):
+    """The diff shows the user's file on stdout (a CI log): a control character in a changed
+    line or a file name is shown escaped and no line becomes a workflow command; tabs and CRLF
+    endings stay as they are."""
+    directory = tmp_path / "x\n::error file=a::pwned"
+    directory.mkdir()
+    path = directory / "r.urdf"
+    path.write_bytes(b'<robot name="r">\r\n\t<link name="a"/><link name="b"/>\r\n'
+                     b'<joint name="j" type="fixed"><parent link="a"/><child link="b"/>\r\n'
+                     b'<origin ryp="0 0 0" xyz="0 0 0"/><!-- \x1b]0;t\x07 \r::warning::w'
+                     b' ##vso[task.setvariable variable=v]1 --></joint>\r\n</robot>\r\n')
+    result = run_urdftool("check", "--diff", path)
+    assert result.code == 1 and '+<origin rpy="0 0 0"' in result.out
+    assert "\x1b" not in result.out and "##vso[" not in result.out
+    assert "\\x1b]0;t\\x07 \\r::warning::w" in result.out
+    assert not [line for line in result.out.split("\n") if line.lstrip().startswith("::")]
+    assert result.out.count("\r\n") == result.out.count("\n") - 3  # headers and hunk: LF
+
+
 def test_fix_keeps_every_byte_outside_the_edits(tmp_path):
     text = ('<?xml version="1.0"?>\r\n<!-- keep me -->\r\n<robot name="r">\r\n'
             '  <link name="a"/>  <link name="b"/>\r\n'

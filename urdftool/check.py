@@ -29,7 +29,7 @@ from urdftool.report import (
     merge_repeats,
 )
 from urdftool.rules import load_all, selected
-from urdftool.source import LoadOptions, load, read_text
+from urdftool.source import LoadOptions, load
 
 
 @dataclass
@@ -136,11 +136,10 @@ def _look_through(path, options: CheckOptions, load_options: LoadOptions, source
         edits = [e for d in safe for e in d.fix.edits]
         made: dict[str, list] = {}
         for name in {e.path for e in edits}:
-            if name not in texts:  # a file the check did not read (an unprocessed include)
-                try:
-                    texts[name] = originals[name] = read_text(Path(name))
-                except ToolError:
+            if name not in texts:  # a file xacro did not read (an unprocessed include)
+                if name not in source.unread:
                     continue
+                texts[name] = originals[name] = source.unread[name]
             new, made_here = apply(texts[name], edits, name)
             if new != texts[name]:
                 texts[name], made[name] = new, made_here

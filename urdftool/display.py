@@ -41,15 +41,15 @@ def _escape(char: str) -> str:
     return f"\\u{code:04x}" if code < 0x10000 else f"\\U{code:08x}"
 
 
-def clean(value, newlines: bool = False) -> str:
+def clean(value, newlines: bool = False, tabs: bool = False) -> str:
     """``value`` as text safe to print: control and invisible format characters escaped (CR and
-    LF kept with ``newlines``, for formats that escape them themselves), no legacy CI command,
-    and no ``::`` at its start."""
+    LF kept with ``newlines``, for formats that escape them themselves; tabs with ``tabs``), no
+    legacy CI command, and no ``::`` at its start."""
     text = str(value)
     if not text.isprintable():
         import unicodedata
 
-        keep = "\r\n" if newlines else ""
+        keep = ("\r\n" if newlines else "") + ("\t" if tabs else "")
         text = "".join(_escape(c) if c not in keep and unicodedata.category(c) in _UNSAFE else c
                        for c in text)
     return guard(text)

@@ -14,9 +14,7 @@ from pathlib import Path
 
 from urdftool.check import CheckOptions, check_file, check_once, overlay_options
 from urdftool.edits import apply
-from urdftool.errors import ToolError
 from urdftool.report import FileReport
-from urdftool.source import read_text
 
 MAX_ROUNDS = 10
 
@@ -56,10 +54,9 @@ def fix_file(path: str | Path, options: CheckOptions, unsafe: bool = False) -> F
         changed = False
         for name in sorted({e.path for e in edits}):
             if name not in texts:  # named only by an unprocessed include
-                try:
-                    texts[name] = originals[name] = read_text(Path(name))
-                except ToolError:
-                    continue
+                if name not in source.unread:
+                    continue  # no file the reading read: never written
+                texts[name] = originals[name] = source.unread[name]
             new, made_here = apply(texts[name], edits, name)
             made.update(made_here)
             if new != texts[name]:
@@ -108,12 +105,28 @@ def encoded(path: str | Path, original: str, fixed: str) -> tuple[str, str]:
 
 
 def unified_diff(result: FixResult) -> str:
+    """The unified diff of the fixes, safe to print: lines are split at LF only (as ``patch``
+    and ``git`` split them), and each line's content goes through ``display.clean`` (tabs and a
+    CRLF ending kept): a control or format character (ESC, a lone CR, a bidi override) is
+    shown escaped, a legacy ``##[`` CI command defused. A valid XML file has no such character
+    in it, so its diff applies as printed; the others' is a view (``--fix`` writes the file)."""
     import difflib
+    import re
+
+    from urdftool.display import clean
+
+    def lines(text: str) -> list[str]:
+        return re.findall(r"[^\n]*\n|[^\n]+", text)
+
+    def shown(line: str) -> str:
+        body, end = (line[:-2], "\r\n") if line.endswith("\r\n") else \
+            (line[:-1], "\n") if line.endswith("\n") else (line, "\n")
+        return clean(body, tabs=True) + end
 
     parts = []
     for name in result.changed():
-        parts.extend(difflib.unified_diff(result.originals[name].splitlines(keepends=True),
-                                          result.texts[name].splitlines(keepends=True),
-                                          f"a/{name.lstrip('/')}", f"b/{name.lstrip('/')}"))
-    text = "".join(parts)
-    return text if not text or text.endswith("\n") else text + "\n"
+        label = clean(name.lstrip("/"))
+        parts.extend(map(shown, difflib.unified_diff(
+            lines(result.originals[name]), lines(result.texts[name]), f"a/{label}",
+            f"b/{label}")))
+    return "".join(parts)

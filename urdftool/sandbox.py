@@ -344,7 +344,8 @@ def load_source(path: Path, options, resolver, kind: str):
     request = {"op": "load", "path": os.fspath(path), "packages": dict(options.packages),
                "xacro_args": dict(options.xacro_args), "sdf_model": options.sdf_model,
                "sdf_model_paths": list(options.sdf_model_paths),
-               "allow_env": list(options.allow_env), "timeout": options.timeout}
+               "allow_env": list(options.allow_env), "timeout": options.timeout,
+               "overlay": dict(options.overlay), "lenient": options.lenient}
     what = "xacro expansion" if kind == "xacro" else "SDF reading"
     limit_rule, failure_rule = (("xacro.limit-exceeded", "xacro.error") if kind == "xacro"
                                 else ("sdf.bad-value", "sdf.bad-value"))
@@ -355,6 +356,11 @@ def load_source(path: Path, options, resolver, kind: str):
     try:
         answer = _child(read).ask(request, options.timeout, what)
         source = source_from_json(answer, str(path))
+        # files the reader says it read: inside the roots, or not taken (a fix may write them)
+        for files in (source.texts, source.unread):
+            for name in [n for n in files
+                         if not resolver.allows(Path(n).resolve(), tuple(model_paths))]:
+                del files[name]
         # the reader sees no variable: a default taken for a variable that is not set here
         # is what xacro itself would take, not a finding
         source.problems = [(rule, f) for rule, f in source.problems
@@ -448,8 +454,9 @@ def source_to_json(source) -> dict:
                 locs.append(_loc_json(source.locs[element]))
         text = etree.tostring(source.root, encoding="unicode")
     return {"kind": source.kind, "root": text, "locs": locs, "texts": source.texts,
-            "problems": [[rule, f.message, _loc_json(f.loc), f.hint, f.severity]
-                         for rule, f in source.problems]}
+            "unread": source.unread,
+            "problems": [[rule, f.message, _loc_json(f.loc), f.hint, f.severity,
+                          [list(e) for e in f.edits]] for rule, f in source.problems]}
 
 
 def source_from_json(data, path: str):
@@ -457,6 +464,7 @@ def source_from_json(data, path: str):
     that read an untrusted file); its XML is read with the secure parser."""
     from lxml import etree
 
+    from urdftool.edits import Edit
     from urdftool.model import Loc
     from urdftool.report import Finding
     from urdftool.source import Source, _utf8_bytes
@@ -481,14 +489,21 @@ def source_from_json(data, path: str):
         return Loc(text(where, False), number(line), number(column), text(element),
                    tuple(text(v, False) for v in via))
 
+    def edit(value):
+        path, line, column, end_line, end_column, replacement = value
+        return Edit(text(path, False), *(number(n) or 0 for n in (line, column, end_line,
+                                                                  end_column)),
+                    text(replacement, False))
+
     try:
         if data.get("kind") not in ("xacro", "sdf", "urdf"):
             raise bad
         source = Source(path, data["kind"], texts={text(k, False): text(v, False)
                                                    for k, v in data["texts"].items()})
-        for rule, message, where, hint, severity in data["problems"]:
+        source.unread = {text(k, False): text(v, False) for k, v in data["unread"].items()}
+        for rule, message, where, hint, severity, edits in data["problems"]:
             source.add(text(rule, False), Finding(text(message, False), loc(where), text(hint),
-                                                  text(severity)))
+                                                  text(severity), tuple(map(edit, edits))))
         locs = [loc(value) for value in data["locs"]]
         xml = text(data["root"])
     except (KeyError, TypeError, ValueError, AttributeError):

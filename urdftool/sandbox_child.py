@@ -213,6 +213,8 @@ def _load(request: dict) -> dict:
                           sdf_model=request.get("sdf_model"),
                           sdf_model_paths=request.get("sdf_model_paths") or [], untrusted=True,
                           allow_env=tuple(request["allow_env"]), timeout=request["timeout"])
+    options.overlay = {str(k): str(v) for k, v in request.get("overlay", {}).items()}
+    options.lenient = request.get("lenient") is True
     source = load(Path(request["path"]), options)
     return sandbox.source_to_json(source)
 

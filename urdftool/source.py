@@ -65,7 +65,7 @@ class Source:
     """One input file, read and (for xacro) expanded."""
 
     __slots__ = ("_xpaths", "kind", "lines", "locs", "path", "problems", "resolver", "root",
-                 "texts")
+                 "texts", "unread")
 
     def __init__(self, path: str, kind: str, root: etree._Element | None = None,
                  problems: list[tuple[str, Finding]] | None = None,
@@ -76,6 +76,9 @@ class Source:
         self.root = root  # the URDF document (expanded / converted)
         self.problems = problems if problems is not None else []
         self.texts = texts if texts is not None else {}  # every file read -> its original text
+        # files an <include> names that were not read (unprefixed, hence never processed):
+        # shown path -> text (``find_unread``)
+        self.unread: dict[str, str] = {}
         self.resolver = resolver
         self.locs = locs if locs is not None else {}  # element -> Loc (xacro, SDF)
         self.lines: list[str] | None = None  # plain URDF: its lines (positions from the parser)
@@ -295,11 +298,87 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
         from urdftool.xacro_expand import expand
 
         expand(source, file_path, options)
+    if kind != "sdf":
+        find_unread(source, options)
     else:
         from urdftool.sdf import load_sdf
 
         load_sdf(source, file_path, text, options)
     return source
+
+
+# elements whose children are not URDF (an <include> in them is no xacro include)
+FOREIGN_BLOCKS = frozenset({"gazebo", "ros2_control", "transmission", "plugin", "sensor"})
+_FIND = re.compile(r"\$\(find\s+([^)\s]+)\)")
+MAX_UNREAD = 200
+
+
+def find_unread(source: Source, options: LoadOptions | None = None) -> None:
+    """``source.unread``: the files an ``<include>`` names that the reading did not read (an
+    include without the xacro: prefix is never processed), and those they include, so that
+    the rules see the whole robot and its fixes reach every file. Read like the input: from
+    ``options.overlay`` first, regular files of at most MAX_FILE_BYTES, and only inside the
+    package roots when the input is untrusted (this runs in the sandboxed reader then)."""
+    pending: list[tuple[str, str]] = list(source.texts.items())
+    seen = {str(Path(p).resolve()) for p in source.texts}
+
+    def add(spec: str, base: Path) -> None:
+        target = _include_target(source, spec, base)
+        if target is None or str(target) in seen or len(seen) > MAX_UNREAD:
+            return
+        seen.add(str(target))
+        try:
+            text = read_input(target, options)
+        except ToolError:
+            return
+        shown = _shown(target)
+        source.unread[shown] = text
+        pending.append((shown, text))
+
+    if source.root is not None:  # unprefixed includes that survived the expansion
+        for element in source.root.iter("include"):
+            filename = element.get("filename")
+            if filename and not any(isinstance(a.tag, str) and a.tag in FOREIGN_BLOCKS
+                                    for a in element.iterancestors()):
+                add(filename, Path(source.loc(element).path).resolve().parent)
+    while pending:  # and the includes (of any kind) of every file, transitively
+        path, text = pending.pop()
+        for spec in re.findall(_INCLUDE, text):
+            add(spec, Path(path).resolve().parent)
+
+
+def _include_target(source: Source, spec: str, base: Path) -> Path | None:
+    """The file an include's filename names (``$(find)`` resolved like xacro does), or None:
+    computed from an expression, not a file, or not readable for this input."""
+    resolver = source.resolver
+    if "${" in spec or "$(arg" in spec:
+        return None
+
+    def find(match: re.Match) -> str:
+        directory = resolver.find(match.group(1)) if resolver is not None else None
+        if directory is None:
+            raise LookupError(match.group(1))
+        return str(directory)
+
+    try:
+        path = Path(_FIND.sub(find, spec))
+    except LookupError:
+        return None
+    path = (path if path.is_absolute() else base / path).resolve()
+    if resolver is not None and not resolver.allows(path):
+        return None
+    try:
+        return path if path.is_file() else None
+    except OSError:
+        return None
+
+
+def _shown(path: Path) -> str:
+    """A path as reports show it: relative to the working directory when under it."""
+    try:
+        return str(path.relative_to(Path.cwd()))
+    except ValueError:
+        return str(path)
 
 
 @contextlib.contextmanager

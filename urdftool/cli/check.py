@@ -113,6 +113,9 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixe
         raise ToolError(f"--statistics prints text or json, not {fmt}")
     if unsafe_fixes and not (fix or diff):
         raise ToolError("--unsafe-fixes goes with --fix or --diff")
+    if diff and (output or output_file or in_place):
+        raise ToolError("--diff prints the changes and writes nothing: no -o, --output-file "
+                        "or --in-place with it")
     if fix or diff:
         report = _fix(paths, options, output, in_place, unsafe_fixes, diff)
         if diff:
@@ -196,6 +199,7 @@ def _write(text: str, report_to: str | None, paths: list[str]) -> None:
 def _fix(paths, options, output, in_place, unsafe, diff):
     """--fix / --diff of one file: write (or show) the fixed files; the report of what remains
     (None for a --diff that changes something)."""
+    from urdftool.display import clean
     from urdftool.errors import ToolError
     from urdftool.fix import encoded, fix_file, unified_diff
     from urdftool.output import write_output
@@ -220,7 +224,7 @@ def _fix(paths, options, output, in_place, unsafe, diff):
     others = [name for name in changed if Path(name).resolve() != top]
     if output:
         if others:
-            raise ToolError("the fixes also change " + ", ".join(others) + ": with -o only a "
+            raise ToolError("the fixes also change " + ", ".join(map(clean, others)) + ": with -o only a "
                             "single-file input is fixed (use --in-place, or --diff to see them)")
         name = next((n for n in result.texts if Path(n).resolve() == top), None)
         if name is None:
@@ -232,6 +236,6 @@ def _fix(paths, options, output, in_place, unsafe, diff):
             text, encoding = encoded(name, result.originals[name], result.texts[name])
             write_output(text, name, inputs=list(result.originals), in_place=True,
                          encoding=encoding)
-            click.echo(f"fixed {name}", err=True)
+            click.echo(f"fixed {clean(name)}", err=True)
     click.echo(summary, err=True)
     return Report([result.remaining])

@@ -18,9 +18,9 @@ import re
 from pathlib import Path
 
 from urdftool.model import Robot
-from urdftool.packages import is_file
 from urdftool.report import Finding
 from urdftool.rules import rule, source_rule
+from urdftool.source import FOREIGN_BLOCKS
 
 XACRO_NS = "http://www.ros.org/wiki/xacro"
 _HEAD = f'<robot xmlns:xacro="{XACRO_NS}" name="r">\n'
@@ -147,7 +147,7 @@ _OLD_TAG_RE = re.compile(r"<(property|macro|include|arg)\s+[^>]*?\b(?:name|filen
 XACRO_TAGS = ("property", "include", "macro", "arg", "if", "unless", "insert_block", "call",
               "element", "attribute")
 # elements whose contents are not URDF: Gazebo/SDF blocks, ros2_control parameters
-_FOREIGN = {"gazebo", "ros2_control", "transmission", "plugin", "sensor"}
+_FOREIGN = FOREIGN_BLOCKS
 # every element URDF defines: a macro may share a name with one (e.g. "inertial"), but an
 # element with that name is then URDF, not a call
 URDF_ELEMENTS = {
@@ -307,90 +307,12 @@ def _is_sdf_include(element) -> bool:
 # macro calls without the prefix ----------------------------------------------------------------
 
 _MACRO_RE = re.compile(r"<(?:xacro:)?macro\b[^>]*?\bname\s*=\s*[\"']([^\"']+)[\"']")
-_INCLUDE_RE = re.compile(r"<(?:xacro:)?include\b[^>]*?\bfilename\s*=\s*[\"']([^\"']+)[\"']")
-_FIND_RE = re.compile(r"\$\(find\s+([^)\s]+)\)")
-
-
-def _resolve(robot: Robot, spec: str, base: Path) -> Path | None:
-    """A (possibly $(find)-using) include filename, resolved like xacro would."""
-    resolver = robot.source.resolver
-
-    def find(match: re.Match) -> str:
-        directory = resolver.find(match.group(1)) if resolver is not None else None
-        if directory is None:
-            raise LookupError(match.group(1))
-        return str(directory)
-
-    if "${" in spec or "$(arg" in spec:
-        return None
-    try:
-        spec = _FIND_RE.sub(find, spec)
-    except LookupError:
-        return None
-    path = Path(spec)
-    if not path.is_absolute():
-        path = base / path
-    return path if is_file(path) else None
 
 
 def robot_files(robot: Robot) -> dict[str, str]:
     """Every file of the robot: those xacro read, and those that unprefixed (hence never
-    processed) <include>s name, transitively (path -> text)."""
-    global _files_memo
-    if _files_memo is not None and _files_memo[0] is robot:
-        return _files_memo[1]
-    texts: dict[str, str] = dict(robot.source.texts)
-    pending: list[tuple[str, str]] = list(texts.items())
-    # files named by unprefixed includes that survived expansion
-    if robot.root is not None:
-        for element in robot.root.iter("include"):
-            filename = element.get("filename")
-            if filename and not _in_foreign_block(element):
-                base = Path(robot.loc(element).path).resolve().parent
-                path = _resolve(robot, filename, base)
-                if path is not None and _shown(path) not in texts and _small(path):
-                    try:
-                        text = path.read_text(encoding="utf-8", errors="replace")
-                    except OSError:
-                        continue
-                    texts[_shown(path)] = text
-                    pending.append((_shown(path), text))
-    while pending:
-        path, text = pending.pop()
-        for spec in _INCLUDE_RE.findall(text):
-            target = _resolve(robot, spec, Path(path).resolve().parent)
-            if target is None or _shown(target) in texts or len(texts) > 200 \
-                    or not _small(target):
-                continue
-            try:
-                included = target.read_text(encoding="utf-8", errors="replace")
-            except OSError:
-                continue
-            texts[_shown(target)] = included
-            pending.append((_shown(target), included))
-    _files_memo = (robot, texts)
-    return texts
-
-
-_files_memo: tuple | None = None
-
-
-def _small(path: Path) -> bool:
-    """Not larger than xacro_expand reads (a huge file is xacro.limit-exceeded, not read)."""
-    from urdftool.xacro_expand import MAX_FILE_BYTES
-
-    try:
-        return path.stat().st_size <= MAX_FILE_BYTES
-    except OSError:
-        return False
-
-
-def _shown(path: Path) -> str:
-    """A path as reports show it: relative to the working directory when under it."""
-    try:
-        return str(path.resolve().relative_to(Path.cwd()))
-    except ValueError:
-        return str(path)
+    processed) <include>s name, transitively (path -> text; ``source.find_unread``)."""
+    return {**robot.source.texts, **robot.source.unread}
 
 
 def macro_names(robot: Robot) -> dict[str, str]:
