@@ -304,3 +304,21 @@ def test_a_fragment_read_by_several_entries_reports_once(tmp_path, monkeypatch):
                                 "urdf/test_d435i_camera.urdf.xacro",
                                 "urdf/test_d435_multiple_cameras.urdf.xacro",
                                 "urdf/test_d435_multiple_cameras.urdf.xacro"])
+
+
+@pytest.mark.parametrize("absolute", [False, True])
+def test_included_files_are_named_as_the_entry_was(demo, monkeypatch, absolute):
+    # wheel.xacro is reached through $(find demo_description), which resolves to an absolute
+    # path: its findings are still named the way the package was given on the command line
+    edit(demo / "urdf" / "wheel.xacro", '<mass value="0.5"/>', '<mass value="-0.5"/>')
+    monkeypatch.chdir(demo.parent)
+    given = str(demo) if absolute else demo.name
+    _, report, _ = check(given)
+    paths = {d["path"] for d in findings(report)} | {f["path"] for f in report["files"]}
+    assert any(p.endswith("urdf/wheel.xacro") for p in paths), paths
+    for path in paths:
+        assert Path(path).is_absolute() == absolute, paths
+        assert (demo.parent / path).resolve().is_file(), path
+    text = run_urdftool("check", "--jobs", "1", given).out
+    shown = [line.split(":")[0] for line in text.splitlines() if ".xacro:" in line]
+    assert shown and all(Path(p).is_absolute() == absolute for p in shown), text

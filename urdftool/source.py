@@ -202,6 +202,15 @@ def read_bytes(path: Path) -> bytes:
     return data
 
 
+def shown_path(file: str | Path, entry: str) -> str:
+    """How a file read on behalf of ``entry`` (an include, a macro file) is named in findings:
+    the way the user named the entry, relative to the working directory when ``entry`` was
+    given relative, absolute when it was given absolute, so one report never mixes the two."""
+    if os.path.isabs(entry):
+        return os.path.abspath(file)
+    return os.path.relpath(os.path.abspath(file))
+
+
 def read_text(path: Path) -> str:
     """Read a file as text: UTF-8, or UTF-16/32 with a BOM. Raises ToolError on anything else.
     An encoding declaration is rewritten to UTF-8 (the text is decoded now), lines unchanged."""

@@ -38,6 +38,7 @@ from urdftool.source import (
     quiet_stderr,
     read_input,
     read_text,
+    shown_path,
 )
 from urdftool.xmlrepair import secure_parser
 
@@ -171,13 +172,9 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
              substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text)
 
     def display_path(filename: str) -> str:
-        candidate = Path(filename)
-        if candidate.resolve() == top.resolve():
+        if Path(filename).resolve() == top.resolve():
             return source.path
-        try:
-            return str(candidate.resolve().relative_to(Path.cwd()))
-        except ValueError:
-            return str(candidate)
+        return shown_path(filename, source.path)
 
     def parse(inp, filename=None):
         if isinstance(inp, xml.dom.minidom.Document):

@@ -476,14 +476,14 @@ class Reader:
         if file.resolve() in self._include_stack or len(self._include_stack) >= MAX_INCLUDE_DEPTH:
             self.report("sdf.include", f"include '{uri}' includes itself (through {file})", include)
             return None
-        from urdftool.source import parse_text, read_text
+        from urdftool.source import parse_text, read_text, shown_path
 
         try:
             text = read_text(file)
         except ToolError as exc:  # unreadable
             self.report("sdf.include", f"include '{uri}': {exc}", include)
             return None
-        shown = os.path.relpath(file) if not os.path.isabs(self.source.path) else str(file)
+        shown = shown_path(file, self.source.path)
         self.source.texts[shown] = text
         root = parse_text(text, shown, self.source)
         if root is None:
