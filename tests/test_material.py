@@ -65,6 +65,17 @@ def test_not_unique_redefined_and_no_color(write):
     assert "rgba '0.9 0.9 0.9 1'" in diagnostics[2].message and "line 2" in diagnostics[2].message
 
 
+def test_a_colour_within_one_8_bit_step_is_no_redefinition(write):
+    # 230/255 = 0.90196: the colour 0.9 once drawn (a 0-255 colour put back on 0-1, say)
+    text = ('<robot name="r">\n'
+            + link("a", '<material name="c"><color rgba="0 0.9 0.9 1"/></material>')
+            + link("b", '<material name="c"><color rgba="0 0.9019607843 0.9019607843 1"/>'
+                        "</material>")
+            + link("c", '<material name="c"><color rgba="0 0.905 0.9 1"/></material>')
+            + "</robot>\n")
+    assert found(write, text)[0] == [("material.redefined", "warning", 4)]
+
+
 def test_bad_colours_are_left_to_schema(write):
     text = ('<robot name="r">\n  <material name="m"><color rgba="255 0 0 1"/></material>\n'
             '  <material name="n"><color rgba="red"/></material>\n</robot>\n')

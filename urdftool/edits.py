@@ -278,6 +278,26 @@ def value_edit(texts: dict[str, str], loc, names: tuple[str, ...], attr: str,
                   f" (to become {new_value})")
 
 
+def tail_edit(texts: dict[str, str], loc, names: tuple[str, ...], attr: str, old: str,
+              new: str) -> Edit | None:
+    """The edit replacing ``old`` by ``new`` at the end of attribute ``attr`` of the element
+    written at ``loc``, when the value as written ends with ``old`` literally (a file name after
+    ``$(find pkg)/`` or ``package://pkg/``); None otherwise (computed there, or not found)."""
+    text = texts.get(loc.path) if loc is not None else None
+    if text is None:
+        return None
+    starts = line_starts(text)
+    tag = tag_at(text, starts, loc.line, loc.column, names)
+    span = attribute(text, tag, attr) if tag is not None else None
+    if span is None:
+        return None
+    value = text[span[2]:span[3]]
+    kept = value[:len(value) - len(old)]
+    if not value.endswith(old) or "}" in value[len(kept):] or kept.count("${") > kept.count("}"):
+        return None
+    return edit(loc.path, text, span[3] - len(old), span[3], new, starts)
+
+
 def rename_element(texts: dict[str, str], loc, old: str, new: str) -> tuple[Edit, ...]:
     """Edits renaming the element written at ``loc`` from ``old`` to ``new`` (start and end
     tag); () when it cannot be found."""

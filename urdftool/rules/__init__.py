@@ -90,6 +90,35 @@ def value_edits(robot: Robot, loc, names: tuple[str, ...], values: dict[str, str
     return ((), "; " + "; ".join(notes)) if notes else (tuple(edits), "")
 
 
+def did_you_mean(name: str, candidates) -> str | None:
+    """The one candidate ``name`` is a likely typo of: difflib's ratio at least 0.6 and 0.1
+    above every other candidate's (``joint7`` among ``joint1``..``joint6`` is none), or None."""
+    import difflib  # only on error paths: keeps start-up lean
+
+    scores = sorted(((difflib.SequenceMatcher(None, name, c).ratio(), c)
+                     for c in dict.fromkeys(candidates) if c and c != name), reverse=True)
+    if not scores or scores[0][0] < 0.6 or (len(scores) > 1 and scores[1][0] > scores[0][0] - 0.1):
+        return None
+    return scores[0][1]
+
+
+def rename_edits(robot: Robot, loc, tag: str, attribute: str, name: str, candidates,
+                 joint_of_link: bool = False):
+    """(edits, new name, note) naming in ``attribute`` of the ``<tag>`` at ``loc`` the one
+    candidate ``name`` is a typo of (``did_you_mean``) or, with ``joint_of_link``, the joint
+    that moves link ``name`` (``value_edits``: the note says why a computed value has no
+    edit); ((), None, "") when there is no such name."""
+    new = None
+    if joint_of_link and robot.link(name) is not None:
+        parent = robot.parent_joint(name)
+        new = parent.name if parent is not None else None
+    new = new or did_you_mean(name, candidates)
+    if new is None:
+        return (), None, ""
+    edits, note = value_edits(robot, loc, (tag,), {attribute: new})
+    return edits, new, note
+
+
 _loaded = False
 
 

@@ -12,7 +12,7 @@ import math
 
 from urdftool.model import Robot
 from urdftool.report import Finding
-from urdftool.rules import rule
+from urdftool.rules import rename_edits, rule
 
 # plugin parameters whose text names joints (comma-separated lists allowed, e.g. jointName)
 JOINT_PARAMS = frozenset({
@@ -92,7 +92,8 @@ _BASE = ('<robot name="r">\n  <link name="base"/><link name="wheel"/>\n'
       link or joint X. When X is neither, Gazebo drops the block silently: the wheel keeps the
       default friction, the sensor is never created.""",
       bad=_BASE + '  <gazebo reference="whel"><mu1>1.0</mu1></gazebo>\n</robot>',
-      good=_BASE + '  <gazebo reference="wheel"><mu1>1.0</mu1></gazebo>\n</robot>')
+      good=_BASE + '  <gazebo reference="wheel"><mu1>1.0</mu1></gazebo>\n</robot>',
+      fix="safe")
 def unknown_reference(robot: Robot):
     links = [link.name for link in robot.links if link.name]
     joints = [joint.name for joint in robot.joints if joint.name]
@@ -102,11 +103,13 @@ def unknown_reference(robot: Robot):
             continue
         if robot.link(reference) is not None or robot.joint(reference) is not None:
             continue
-        close = _suggest(reference, links + joints)
+        edits, close, note = rename_edits(robot, robot.loc(block), "gazebo", "reference",
+                                          reference, links + joints)
+        close = close or _suggest(reference, links + joints)
         yield Finding(f"<gazebo reference=\"{reference}\"> names no link or joint; Gazebo ignores "
                       "the block", robot.loc(block),
-                      hint=f"did you mean '{close}'?" if close else
-                      "name a link (or a joint) of the robot")
+                      hint=(f"did you mean '{close}'?" if close else
+                            "name a link (or a joint) of the robot") + note, edits=edits)
 
 
 @rule("gazebo.plugin-unknown-joint", "error", "a Gazebo plugin parameter names a missing joint",

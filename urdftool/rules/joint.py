@@ -184,7 +184,8 @@ def _degrees_suspect(lower: float, upper: float) -> bool:
       good='<robot name="r"><link name="a"/><link name="b"/>\n'
            '  <joint name="j" type="revolute"><parent link="a"/><child link="b"/>\n'
            '    <limit lower="-2.96706" upper="2.96706" effort="1" velocity="1"/></joint>\n'
-           '</robot>')
+           '</robot>',
+      fix="unsafe")
 def range_in_degrees(robot: Robot):
     for joint in robot.joints:
         limit = joint.limit
@@ -194,10 +195,13 @@ def range_in_degrees(robot: Robot):
             continue
         lo, hi = math.radians(limit.lower), math.radians(limit.upper)
         turns = (limit.upper - limit.lower) / TWO_PI
+        edits, note = value_edits(robot, limit.loc, ("limit",),
+                                  {"lower": number(lo), "upper": number(hi)})
         yield Finding(f"{label(joint)}: limits [{fmt(limit.lower)}, {fmt(limit.upper)}] look "
                       f"like degrees; as radians they span {turns:.1f} turns", limit.loc,
                       hint=f'in radians: lower="{lo:.6g}" upper="{hi:.6g}" '
-                           f'(or lower="${{radians({fmt(limit.lower)})}}" in xacro)')
+                           f'(or lower="${{radians({fmt(limit.lower)})}}" in xacro)' + note,
+                      edits=edits)
 
 
 @rule("joint.multi-turn-range", "info", "a revolute range wider than one turn",

@@ -45,6 +45,14 @@ def _rgba(text: str | None) -> tuple[float, ...] | None:
     return tuple(values)  # type: ignore[arg-type]
 
 
+def _same_colour(a, b) -> bool:
+    """The same colour once drawn: no channel differs by more than one 8-bit step (0.9 and
+    230/255 are one colour)."""
+    if a is None or b is None:
+        return a == b
+    return all(abs(x - y) <= 1 / 255 for x, y in zip(a, b))
+
+
 def _defines(element) -> bool:
     rgba, filename = _definition(element)
     return _rgba(rgba) is not None or bool(filename)
@@ -196,7 +204,8 @@ def redefined(robot: Robot):
             definitions[name] = (rgba, filename, material)
             continue
         first_rgba, first_file, first = definitions[name]
-        if _rgba(first_rgba) == _rgba(rgba) and (first_file or None) == (filename or None):
+        if _same_colour(_rgba(first_rgba), _rgba(rgba)) and \
+                (first_file or None) == (filename or None):
             continue
         earlier = robot.loc(first)
         where = f" at line {earlier.line}" if earlier.line else ""

@@ -71,16 +71,50 @@ def unresolved(robot):
 @rule("mesh.not-found", "error", "a mesh file does not exist",
       doc="""The mesh reference resolves to a path where there is no file. Every robot tool
 fails to show or collide the link (rviz shows nothing, Gazebo and PyBullet print an error and
-drop the shape). Relative paths are relative to the file where the `<mesh>` is written.""",
+drop the shape). Relative paths are relative to the file where the `<mesh>` is written.
+When the directory holds the same name in another case (`base.STL` for `base.stl`: found on a
+case-insensitive disk, missing on Linux) or one mesh with a close name, that name is the fix.""",
       bad='<robot name="r"><link name="a"><visual><geometry>'
-          '<mesh filename="meshes/does_not_exist.stl"/></geometry></visual></link></robot>',
+          '<mesh filename="package://urdftool/physics/examples/Open_Box.stl"/></geometry>'
+          '</visual></link></robot>',
       good='<robot name="r"><link name="a"><visual><geometry>'
-           '<box size="0.1 0.1 0.1"/></geometry></visual></link></robot>')
+           '<mesh filename="package://urdftool/physics/examples/open_box.stl"/></geometry>'
+           '</visual></link></robot>',
+      fix="safe")
 def not_found(robot):
     for a, info in _mesh_shapes(robot):
         if info.path is not None and not is_file(info.path):
+            edits, hint = (), None
+            name = _twin(info.path)
+            if name is not None:
+                from urdftool.edits import tail_edit
+
+                hint = f"did you mean '{name}' (in the same directory)?"
+                made = tail_edit(robot.source.texts, _loc(info), ("mesh",), "filename",
+                                 info.path.name, name)
+                edits = (made,) if made is not None else ()
             yield Finding(f"{_what(a, info)} mesh {info.shape.geometry.filename!r}: no file "
-                          f"at {info.path}", _loc(info))
+                          f"at {info.path}", _loc(info), hint=hint, edits=edits)
+
+
+MESH_SUFFIXES = (".stl", ".dae", ".obj", ".ply", ".off", ".glb", ".gltf", ".3ds", ".mesh")
+
+
+def _twin(path):
+    """The one mesh file beside a missing ``path`` that its name is a slip of: the same name in
+    another case (``base.STL`` for ``base.stl``), else the one close name (``did_you_mean``);
+    None when there is no such file or several."""
+    from urdftool.rules import did_you_mean
+
+    try:
+        entries = [p.name for _, p in zip(range(2000), path.parent.iterdir())
+                   if p.suffix.lower() in MESH_SUFFIXES and is_file(p)]
+    except OSError:
+        return None
+    same = [n for n in entries if n.lower() == path.name.lower()]
+    if same:
+        return same[0] if len(same) == 1 else None
+    return did_you_mean(path.name, entries)
 
 
 @rule("mesh.unreadable", "error", "a mesh file cannot be read as a mesh",

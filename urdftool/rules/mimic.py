@@ -13,7 +13,7 @@ from __future__ import annotations
 from urdftool.limits import composed, mimic_chain, mimic_image, tolerance
 from urdftool.model import Robot
 from urdftool.report import Finding
-from urdftool.rules import rule, value_edits
+from urdftool.rules import rename_edits, rule, value_edits
 from urdftool.rules.joint import fmt, label
 
 _ROBOT = '<robot name="r"><link name="a"/><link name="b"/><link name="c"/><link name="d"/>\n'
@@ -41,7 +41,8 @@ def _interval(interval) -> str:
       without `joint`; MoveIt, ros2_control and Gazebo fail to load or ignore the relation when
       X is not a joint (naming a link is a common slip).""",
       bad=_example(_follower('<mimic joint="leed"/>')),
-      good=_example(_follower('<mimic joint="lead"/>')))
+      good=_example(_follower('<mimic joint="lead"/>')),
+      fix="safe")
 def unknown_joint(robot: Robot):
     names = [j.name for j in robot.joints if j.name]
     for joint in robot.joints:
@@ -55,17 +56,16 @@ def unknown_joint(robot: Robot):
         if robot.joint(mimic.joint) is not None:
             continue
         what = "a link, not a joint" if robot.link(mimic.joint) is not None else "not a joint"
-        import difflib  # only on this error path: keeps start-up lean
-
-        close = difflib.get_close_matches(mimic.joint, names, n=1, cutoff=0.6)
-        hint = f"did you mean '{close[0]}'?" if close else \
-            "name one of the robot's joints" + (
-                f" (the joint whose child is link '{mimic.joint}' is "
-                f"'{robot.parent_joint(mimic.joint).name}')"
-                if robot.link(mimic.joint) is not None and robot.parent_joint(mimic.joint)
-                else "")
+        edits, new, note = rename_edits(robot, mimic.loc, "mimic", "joint", mimic.joint,
+                                        [n for n in names if n != joint.name], True)
+        if new is None:
+            hint = "name one of the robot's joints"
+        elif robot.link(mimic.joint) is not None:
+            hint = f"the joint whose child is link '{mimic.joint}' is '{new}'"
+        else:
+            hint = f"did you mean '{new}'?"
         yield Finding(f"{label(joint)} mimics '{mimic.joint}', which is {what}", mimic.loc,
-                      hint=hint)
+                      hint=hint + note, edits=edits)
 
 
 @rule("mimic.self", "error", "a joint mimics itself",

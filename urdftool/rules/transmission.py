@@ -13,7 +13,7 @@ import math
 
 from urdftool.model import Robot
 from urdftool.report import Finding
-from urdftool.rules import rule
+from urdftool.rules import rename_edits, rule
 
 ROS1_INTERFACES = (
     "EffortJointInterface", "PositionJointInterface", "VelocityJointInterface",
@@ -45,17 +45,12 @@ def _new_style(transmission) -> bool:
     return transmission.get("type") is None
 
 
-def _joint_hint(robot: Robot, name: str) -> str:
+def _joint_hint(robot: Robot, name: str, new: str | None) -> str:
     if robot.link(name) is not None:
-        parent = robot.parent_joint(name)
-        if parent is not None and parent.name:
-            return f"'{name}' is a link; the joint that moves it is '{parent.name}'"
+        if new is not None:
+            return f"'{name}' is a link; the joint that moves it is '{new}'"
         return f"'{name}' is a link, not a joint"
-    import difflib  # only on this error path: keeps start-up lean
-
-    close = difflib.get_close_matches(name, [j.name for j in robot.joints if j.name], n=1,
-                                      cutoff=0.6)
-    return f"did you mean '{close[0]}'?" if close else "name a joint of the robot"
+    return f"did you mean '{new}'?" if new else "name a joint of the robot"
 
 
 _JOINT = ('<robot name="r"><link name="a"/><link name="b"/>\n'
@@ -76,7 +71,8 @@ def _transmission(joint: str = "j", interface: str = "hardware_interface/EffortJ
       doc="""ros_control and gazebo_ros_control look the transmission's joint up by name; a name
       that is not a joint makes the controller manager fail to load the robot hardware.""",
       bad=_JOINT + _transmission(joint="b"),
-      good=_JOINT + _transmission())
+      good=_JOINT + _transmission(),
+      fix="safe")
 def unknown_joint(robot: Robot):
     for transmission in robot.elements("transmission"):
         for tag in ("joint", "passive_joint"):
@@ -84,9 +80,11 @@ def unknown_joint(robot: Robot):
                 name = node.get("name")
                 if name is None or robot.joint(name) is not None:
                     continue
+                edits, new, note = rename_edits(robot, robot.loc(node), tag, "name", name,
+                                                [j.name for j in robot.joints], True)
                 yield Finding(f"transmission '{transmission.get('name')}': <{tag}> '{name}' is "
                               "not a joint of the robot", robot.loc(node),
-                              hint=_joint_hint(robot, name))
+                              hint=_joint_hint(robot, name, new) + note, edits=edits)
 
 
 @rule("transmission.incomplete", "error", "a transmission without a type, joint or actuator",
@@ -199,12 +197,16 @@ def zero_reduction(robot: Robot):
       good=_JOINT + '  <ros2_control name="sys" type="system">\n'
                     '    <hardware><plugin>mock_components/GenericSystem</plugin></hardware>\n'
                     '    <joint name="j"><command_interface name="position"/>'
-                    '<state_interface name="position"/></joint>\n  </ros2_control>\n</robot>')
+                    '<state_interface name="position"/></joint>\n  </ros2_control>\n</robot>',
+      fix="safe")
 def ros2_control_joint(robot: Robot):
     for block in robot.elements("ros2_control"):
         for node in block.iter("joint"):
             name = node.get("name")
             if name is None or robot.joint(name) is not None:
                 continue
+            edits, new, note = rename_edits(robot, robot.loc(node), "joint", "name", name,
+                                            [j.name for j in robot.joints], True)
             yield Finding(f"ros2_control '{block.get('name')}': joint '{name}' is not a joint of "
-                          "the robot", robot.loc(node), hint=_joint_hint(robot, name))
+                          "the robot", robot.loc(node), hint=_joint_hint(robot, name, new) + note,
+                          edits=edits)
