@@ -299,3 +299,26 @@ def test_fixing_real_robots_never_makes_them_worse(path, tmp_path):
             for a, b in zip(old, new_elements):
                 if a[:2] != b[:2]:
                     assert b[2] in changed, f"{name}:{b[2]} changed but was not edited"
+
+
+def test_did_you_mean_names_one_slip_or_nothing():
+    from urdftool.rules import did_you_mean
+
+    assert did_you_mean("whel", ["wheel", "wheel_joint", "base"]) == "wheel"
+    assert did_you_mean("base_link__lnk_01", ["base_link__link_01", "base_link__link_001"]) \
+        == "base_link__link_01"  # one edit against two
+    assert did_you_mean("joint7", [f"joint{i}" for i in range(1, 7)]) is None  # six at one edit
+    assert did_you_mean("link_right_wheel", ["joint_right_wheel", "link_left_wheel"]) is None
+    assert did_you_mean("a", ["b"]) is None  # a one-letter name is no typo of another
+
+
+def test_a_link_typo_is_not_fixed_into_a_loop_or_a_second_parent(write):
+    """link_1 is gone (renamed link_0 by mistake): link_7 is as near as link_2..6, and naming
+    any of them would close a loop; no edit, the finding stays."""
+    links = "".join(f'  <link name="l_{i}"/>\n' for i in (0, 0, 2, 3))
+    joints = ('  <joint name="j1" type="fixed"><parent link="l_0"/><child link="l_1"/></joint>\n'
+              '  <joint name="j2" type="fixed"><parent link="l_1"/><child link="l_2"/></joint>\n'
+              '  <joint name="j3" type="fixed"><parent link="l_2"/><child link="l_3"/></joint>\n')
+    path = write('<robot name="r">\n' + links + joints + "</robot>\n")
+    result = run_urdftool("check", "--diff", "--unsafe-fixes", path)
+    assert result.code == 0 and result.out == ""

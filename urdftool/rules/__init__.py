@@ -91,15 +91,24 @@ def value_edits(robot: Robot, loc, names: tuple[str, ...], values: dict[str, str
 
 
 def did_you_mean(name: str, candidates) -> str | None:
-    """The one candidate ``name`` is a likely typo of: difflib's ratio at least 0.6 and 0.1
-    above every other candidate's (``joint7`` among ``joint1``..``joint6`` is none), or None."""
-    import difflib  # only on error paths: keeps start-up lean
+    """The one candidate ``name`` is a slip of: the single nearest by edit distance (a letter
+    dropped, added, changed or two swapped count one: rapidfuzz's OSA distance), at most two
+    edits (one per eight letters in a longer name) and one per three letters; None when none is
+    that near or two are equally near (``joint7`` among ``joint1``..``joint6``)."""
+    from rapidfuzz.distance import OSA  # only on error paths: keeps start-up lean
 
-    scores = sorted(((difflib.SequenceMatcher(None, name, c).ratio(), c)
-                     for c in dict.fromkeys(candidates) if c and c != name), reverse=True)
-    if not scores or scores[0][0] < 0.6 or (len(scores) > 1 and scores[1][0] > scores[0][0] - 0.1):
-        return None
-    return scores[0][1]
+    limit = min(max(2, len(name) // 8), (len(name) + 1) // 3)
+    best: list[str] = []
+    nearest = limit + 1
+    for candidate in dict.fromkeys(candidates):
+        if not candidate or candidate == name:
+            continue
+        distance = OSA.distance(name, candidate, score_cutoff=nearest)
+        if distance < nearest:
+            best, nearest = [candidate], distance
+        elif distance == nearest and nearest <= limit:
+            best.append(candidate)
+    return best[0] if len(best) == 1 else None
 
 
 def rename_edits(robot: Robot, loc, tag: str, attribute: str, name: str, candidates,

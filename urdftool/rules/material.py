@@ -15,7 +15,7 @@ import math
 
 from urdftool.model import Robot, parse_float
 from urdftool.report import Finding
-from urdftool.rules import rule, value_edits
+from urdftool.rules import did_you_mean, rule, value_edits
 
 
 def _child(element, tag: str):
@@ -125,14 +125,12 @@ def undefined(robot: Robot):
                        "shown in the default colour")
             hint = (f'add <material name="{name}"><color rgba="R G B A"/></material> under '
                     "<robot>, or a <color> inside this <material>")
-            import difflib  # only on this path
-
-            match = difflib.get_close_matches(name, sorted(defined - {None}), n=2, cutoff=0.75)
-            if len(match) == 1:  # a typo of one defined material
-                message += f"; did you mean '{match[0]}'?"
+            match = did_you_mean(name, sorted(defined - {None}))
+            if match is not None:  # a typo of one defined material
+                message += f"; did you mean '{match}'?"
                 edits, note = value_edits(robot, robot.loc(material), ("material",),
-                                          {"name": match[0]})
-                hint = f'write <material name="{match[0]}"/>' + note
+                                          {"name": match})
+                hint = f'write <material name="{match}"/>' + note
         yield Finding(message, robot.loc(material), hint=hint, edits=edits)
 
 

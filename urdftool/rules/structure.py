@@ -14,7 +14,7 @@ import functools
 from collections.abc import Iterator
 
 from urdftool.report import Finding
-from urdftool.rules import rule, value_edits
+from urdftool.rules import did_you_mean, rule, value_edits
 
 
 def _urdf_only(check):
@@ -178,14 +178,31 @@ def missing_link(robot) -> Iterator[Finding]:
             edits, note = (), ""
             if match:
                 message += f"; did you mean '{match[0]}'?"
-                # the typo mended: unless the link already has a parent (a second one)
-                children = {j.child for j in robot.joints}
-                if end == "parent" or match[0] not in children:
-                    edits, note = value_edits(robot, loc, (end,), {"link": match[0]})
+                # the typo mended when it is one (did_you_mean), unless the link named then
+                # gets a second parent or closes a loop
+                new = did_you_mean(name, names)
+                if new == match[0] and (
+                        new not in _below(robot, joint.child) if end == "parent"
+                        else new != joint.parent and all(j.child != new for j in robot.joints)):
+                    edits, note = value_edits(robot, loc, (end,), {"link": new})
             yield Finding(message, loc,
                           hint=(f'write <{end} link="{match[0]}"/>' + note) if match
                           else f'define <link name="{name}"/> or name an existing link',
                           edits=edits)
+
+
+def _below(robot, link: str | None) -> set:
+    """``link`` and every link below it (through the joints' parent -> child)."""
+    children: dict = {}
+    for joint in robot.joints:
+        children.setdefault(joint.parent, []).append(joint.child)
+    found, pending = set(), [link]
+    while pending:
+        current = pending.pop()
+        if current not in found:
+            found.add(current)
+            pending.extend(children.get(current, ()))
+    return found
 
 
 @rule("structure.self-joint", "error", "a joint whose parent and child are the same link",
