@@ -340,7 +340,7 @@ def find_unread(source: Source, options: LoadOptions | None = None) -> None:
             text = read_input(target, options)
         except ToolError:
             return
-        shown = _shown(target)
+        shown = shown_path(target, source.path)
         source.unread[shown] = text
         pending.append((shown, text))
 
@@ -380,14 +380,6 @@ def _include_target(source: Source, spec: str, base: Path) -> Path | None:
         return path if path.is_file() else None
     except OSError:
         return None
-
-
-def _shown(path: Path) -> str:
-    """A path as reports show it: relative to the working directory when under it."""
-    try:
-        return str(path.relative_to(Path.cwd()))
-    except ValueError:
-        return str(path)
 
 
 @contextlib.contextmanager
