@@ -159,6 +159,23 @@ def test_unresolved_missing_and_unreadable(write, tmp_path):
     assert "(.mesh)" in skipped.message and "on 'a'" in skipped.message
 
 
+def test_unresolved_is_one_finding_per_missing_package(write):
+    # a humanoid with every mesh in one missing package: one -P fixes all, so one finding at
+    # the first mesh that counts the rest; another package and a model:// URI each their own
+    meshes = ["package://pkg_q/a.stl", "package://pkg_q/b.stl", "package://pkg_q/c.stl",
+              "package://pkg_r/a.stl", "model://thing/a.stl", "model://thing/b.stl"]
+    text = '<robot name="r">' + "".join(
+        f'<link name="l{i}"><visual><geometry><mesh filename="{uri}"/></geometry></visual></link>'
+        for i, uri in enumerate(meshes)) + "</robot>"
+    ds = [d for d in diagnostics(write(text), ("mesh",)) if d.rule == "mesh.unresolved"]
+    assert [d.message.split(" mesh ")[0] for d in ds] == [
+        "link 'l0' visual", "link 'l3' visual", "link 'l4' visual"]
+    assert "package 'pkg_q' is not found (and 2 more meshes" in ds[0].message
+    assert "package 'pkg_r' is not found, so" in ds[1].message
+    assert "(and 1 more mesh of this robot like it)" in ds[2].message
+    assert "Gazebo" in ds[2].message
+
+
 def test_package_resolution_by_directory_name_and_empty_package(tmp_path, box_stl):
     # example-robot-data's layout: package://example-robot-data/robots/... where the folder is
     # called example-robot-data but its package.xml names it differently
@@ -343,3 +360,14 @@ def test_corpus_mass_properties_match_trimesh(suffix):
         np.testing.assert_allclose(tensor_from_second_moment(info.solid.second), inertia,
                                    rtol=1e-9, atol=1e-9 * scale)
     assert checked["closed"] >= 3 and checked["hull"] >= 1, checked
+
+
+def test_sdf_model_uri_is_reported_once(write):
+    # the SDF reader names an unresolved model:// with the model paths it searched; the mesh
+    # rule does not repeat it
+    text = ('<sdf version="1.7"><model name="m"><link name="a"><visual name="v"><geometry>'
+            '<mesh><uri>model://no_such_model_q/a.stl</uri></mesh></geometry></visual></link>'
+            '</model></sdf>')
+    ds = check_file(write(text, "m.sdf"), CheckOptions()).diagnostics
+    rules = [d.rule for d in ds if "no_such_model_q" in d.message]
+    assert rules == ["sdf.mesh-uri"], [(d.rule, d.message) for d in ds]

@@ -43,29 +43,49 @@ the example meshes shipped with urdftool). When none has it, the mesh
 cannot be checked, and a robot tool run in the same environment will not find it either.
 `package:///path` (an empty package name) is rejected by ROS's resource retriever even when
 some tools (pinocchio) accept it. Other URI schemes (`http://`, `model://`) are not
-local files.""",
+local files. One finding per missing package (or scheme), at its first mesh, says how many
+meshes share it: one `-P` fixes them all. In an SDF, `model://` meshes are reported by the SDF
+reader (`sdf.mesh-uri`) with the model paths it searched.""",
       bad='<robot name="r"><link name="a"><visual><geometry>'
           '<mesh filename="package://no_such_package_xyz/meshes/a.stl"/>'
           '</geometry></visual></link></robot>',
       good='<robot name="r"><link name="a"><visual><geometry>'
            '<box size="0.1 0.1 0.1"/></geometry></visual></link></robot>')
 def unresolved(robot):
+    # one finding per missing package (or URI scheme), at its first mesh: one -P or one path
+    # variable fixes them all, and a humanoid has a hundred meshes in the same package
+    groups: dict[tuple[str, str], list] = {}
     for a, info in _mesh_shapes(robot):
         uri = info.shape.geometry.filename.strip()
         if uri.startswith("package:///"):
-            yield Finding(f"{_what(a, info)} mesh {uri!r} has an empty package name: ROS's "
-                          "resource retriever rejects it", _loc(info),
-                          hint="write package://PACKAGE/" + uri[len("package:///"):])
+            groups.setdefault(("empty", ""), []).append((a, info, uri))
         elif info.path is None:
-            if uri.startswith("package://"):
-                name = uri[len("package://"):].partition("/")[0]
-                yield Finding(f"{_what(a, info)} mesh {uri!r}: package '{name}' is not found, "
-                              f"so {_SKIPPED}", _loc(info),
-                              hint=f"pass -P {name}=DIR, or set ROS_PACKAGE_PATH")
-            else:
-                yield Finding(f"{_what(a, info)} mesh {uri!r} is not a local file, so "
-                              f"{_SKIPPED}", _loc(info),
-                              hint="use package://PACKAGE/... or a relative path")
+            scheme, _, rest = uri.partition("://")
+            if scheme == "model" and robot.source.kind == "sdf":
+                continue  # the SDF reader's sdf.mesh-uri names it with the model paths
+            key = ("package", rest.partition("/")[0]) if scheme == "package" else ("other", scheme)
+            groups.setdefault(key, []).append((a, info, uri))
+    for (kind, name), meshes in groups.items():
+        a, info, uri = meshes[0]
+        more = (f" (and {len(meshes) - 1} more mesh{'es' if len(meshes) > 2 else ''} of this "
+                "robot like it)") if len(meshes) > 1 else ""
+        if kind == "empty":
+            yield Finding(f"{_what(a, info)} mesh {uri!r} has an empty package name{more}: "
+                          "ROS's resource retriever rejects it", _loc(info),
+                          hint="write package://PACKAGE/" + uri[len("package:///"):])
+        elif kind == "package":
+            yield Finding(f"{_what(a, info)} mesh {uri!r}: package '{name}' is not found{more}, "
+                          f"so {_SKIPPED}", _loc(info),
+                          hint=f"pass -P {name}=DIR, or set ROS_PACKAGE_PATH")
+        elif name == "model":
+            yield Finding(f"{_what(a, info)} mesh {uri!r}{more}: model:// is resolved by Gazebo "
+                          "alone (from its resource path); other URDF tools cannot read it, "
+                          f"and {_SKIPPED}", _loc(info),
+                          hint="use package://PACKAGE/... or a path relative to the file")
+        else:
+            yield Finding(f"{_what(a, info)} mesh {uri!r} is not a local file{more}, so "
+                          f"{_SKIPPED}", _loc(info),
+                          hint="use package://PACKAGE/... or a relative path")
 
 
 @rule("mesh.not-found", "error", "a mesh file does not exist",
