@@ -166,3 +166,23 @@ def test_merged_body_of_unusable_poses_is_no_verdict_and_no_crash(write, rpy):
     text = robot_text().replace('<origin xyz="-0.1 0 0.15" rpy="0.4 0 0"/>',
                                 f'<origin xyz="-0.1 0 0.15" rpy="{rpy}"/>')
     assert "inertia.exceeds-geometry" in [r for r, _, _ in findings(write, text)]
+
+
+def test_sdf_ball_joint_is_reported_once(tmp_path):
+    # the two massless links the URDF conversion puts into a ball joint are the converter's,
+    # named by sdf.unsupported-joint; Gazebo reads the SDF itself, with no massless link (the
+    # plugin is carried into the URDF as a <gazebo> block)
+    from urdftool.check import CheckOptions, check_file
+
+    inertial = ("<inertial><mass>1</mass><inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz>"
+                "</inertia></inertial>")
+    box = "<collision name='c'><geometry><box><size>0.1 0.1 0.1</size></box></geometry></collision>"
+    path = tmp_path / "m.sdf"
+    path.write_text(f"<sdf version='1.7'><model name='m'><link name='a'>{inertial}{box}</link>"
+                    f"<link name='b'><pose>0 0 0.2 0 0 0</pose>{inertial}{box}</link>"
+                    "<joint name='j' type='ball'><parent>a</parent><child>b</child></joint>"
+                    "<plugin name='p' filename='libp.so'/></model></sdf>")
+    rules = [d.rule for d in check_file(path, CheckOptions()).diagnostics
+             if d.severity != "info"]
+    assert "sdf.unsupported-joint" in rules
+    assert "inertia.massless-moving-link" not in rules, rules

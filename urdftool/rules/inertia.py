@@ -265,8 +265,9 @@ A massless link between two joints (a hip or wrist built from several revolute j
 for PyBullet, pinocchio and Drake when the links beyond it carry mass, and is not reported,
 unless the description carries `<gazebo>` blocks: Gazebo's URDF reader (sdformat) drops a
 link of zero mass attached by a moving joint, together with its joints and everything beyond
-it. A description with no `<inertial>` at all is reported once, as
-`inertia.kinematics-only`.""",
+it (not reported for an SDF: Gazebo reads it as SDF, and the massless links its conversion to
+URDF adds are named by `sdf.unsupported-joint`). A description with no `<inertial>` at all is
+reported once, as `inertia.kinematics-only`.""",
       bad=_robot(_link("base", "1", ("0.01", "0.01", "0.01")) + '\n'
                  '<joint name="j" type="revolute"><parent link="base"/><child link="arm"/>'
                  '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
@@ -279,7 +280,9 @@ def massless_moving_link(robot):
     if _kinematics_only(robot):
         return  # one finding for the robot: inertia.kinematics-only
     bodies = analysis.RigidBodies(robot)
-    gazebo = _targets_gazebo(robot)
+    # an SDF is read by Gazebo as SDF, not through its URDF reader; the massless links its
+    # conversion adds (ball, universal, screw joints) are sdf.unsupported-joint's to report
+    gazebo = _targets_gazebo(robot) and robot.source.kind != "sdf"
     for link in robot.links:
         joint = robot.parent_joint(link.name) if link.name is not None else None
         if joint is None or not joint.moving:
