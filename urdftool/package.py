@@ -43,6 +43,7 @@ class Target(NamedTuple):
     args: dict[str, str] = {}  # noqa: RUF012 - never mutated (a NamedTuple field)
     packages: dict[str, str] = {}  # noqa: RUF012 - never mutated
     configured: bool = False  # listed in ``entries``: always an entry
+    args_from: str = ""  # the launch file the arguments were read from (urdftool.launch)
 
 
 def robot_files(directory: Path) -> list[Path]:
@@ -113,6 +114,9 @@ def plan(paths: list[str], changed: bool = False) -> tuple[list[Target], set[str
         if entries:
             configured.add(resolved)
             targets.extend(Target(str(file), e.args, packages, True) for e in entries)
+        elif launched := _launched(file, configs):
+            targets.extend(Target(str(file), args, packages, args_from=where)
+                           for args, where in launched)
         else:
             targets.append(Target(str(file), {}, packages))
     # configured entries not among the files (outside the directories given): added in
@@ -124,6 +128,20 @@ def plan(paths: list[str], changed: bool = False) -> tuple[list[Target], set[str
                     targets.append(Target(str(_shown(entry.path)), entry.args, config.packages,
                                           True))
     return targets, given
+
+
+def _launched(file: Path, memo: dict) -> list[tuple[dict[str, str], str]]:
+    """The argument sets the launch files of ``file``'s package pass to it (memoised per
+    package), for a xacro file the configuration does not list."""
+    if not file.name.endswith(".xacro"):
+        return []
+    from urdftool.launch import launch_arguments
+
+    root = package_root(file)
+    found = memo.setdefault("launch", {})
+    if root not in found:
+        found[root] = launch_arguments(root)
+    return found[root].get(file.name, [])
 
 
 def _shown(path: Path) -> Path:
@@ -158,7 +176,10 @@ def classify(targets: list[Target], reports: list[FileReport],
                      for j in range(len(reports)) if j != i):
             report.diagnostics = [d for d in report.diagnostics if not _needs_robot(d.rule)]
             shown.append(i)
-    notes: list[str] = []
+    notes = [f"{reports[i].path}: expanded with "
+             f"{' '.join(f'{k}:={v}' for k, v in targets[i].args.items())}, as "
+             f"{targets[i].args_from} passes them (list it in urdftool.toml's entries to choose)"
+             for i in shown if targets[i].args_from]
     if given is not None:
         kept, elsewhere = [], 0
         for i in shown:
