@@ -18,6 +18,7 @@ from __future__ import annotations
 import contextlib
 import os
 import time
+import xml.dom.minicompat
 import xml.dom.minidom
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -53,6 +54,30 @@ class _Files:
         if path not in self.paths:
             self.paths.append(path)
         return self.paths.index(path)
+
+
+class _ChildList(xml.dom.minicompat.NodeList):
+    """minidom's child list (``NodeList``) that looks a child up near the last place it found
+    one. xacro replaces each macro call by its body with ``insertBefore``/``removeChild``,
+    which search the parent's children from the first (``list.index``): expansion was
+    quadratic in the number of siblings (a robot of n macro calls, issue 15). Installed for
+    one expansion by ``_patched_xacro``; the methods are minidom's own otherwise."""
+
+    __slots__ = ("_near",)
+
+    def index(self, item, *bounds):
+        if not bounds:
+            near = getattr(self, "_near", 0)
+            try:
+                found = list.index(self, item, max(near - 32, 0), near + 32)
+            except ValueError:
+                found = list.index(self, item)
+            self._near = found
+            return found
+        return list.index(self, item, *bounds)
+
+    def remove(self, item):
+        del self[self.index(item)]
 
 
 def _tag_elements(root, file_index: int, text: str) -> None:
@@ -167,6 +192,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         return read_text(Path(filename))
 
     interpreter = Interpreter(policy.deadline, read_yaml)
+    node_list = xml.dom.minidom.NodeList
     saved = (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
              xacro.process_include, xacro.safe_eval, substitution_args._eval,
              substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text)
@@ -346,9 +372,11 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
 
     if getattr(options, "lenient", False):
         xacro.eval_text = lenient_eval_text
+    xml.dom.minidom.NodeList = _ChildList
     try:
         yield xacro
     finally:
+        xml.dom.minidom.NodeList = node_list
         (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
          xacro.process_include, xacro.safe_eval, substitution_args._eval,
          substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text) = saved
