@@ -144,6 +144,11 @@ class Source:
                     paths.setdefault(child, f"{base}/{tag}[{seen[tag]}]")
         return paths[element]
 
+    def forget_xpaths(self) -> None:
+        """Drop the XPath memo: it keeps every element it named alive (after an SDF
+        conversion, the whole SDF document: issue 15)."""
+        self._xpaths = {}
+
     def problems_for(self, rule: str) -> list[Finding]:
         return [finding for rule_id, finding in self.problems if rule_id == rule]
 

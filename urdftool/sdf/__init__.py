@@ -69,6 +69,7 @@ def convert_source(source, path: Path, text: str, options: ConvertOptions):
         top = reader.read_model(element, doc)
     builder = Builder(source, reader, top, options)
     source.root = builder.build()
+    source.forget_xpaths()  # the paths named SDF elements: the SDF document can go
     return builder
 
 
