@@ -24,16 +24,18 @@ def geometric_jacobian(chain: Chain, q) -> np.ndarray:
     """6 x n: [linear velocity of the tip origin; angular velocity] per unit joint velocity,
     in the base frame. Mimic joints add ``multiplier *`` their column to their leader's."""
     frames, tip = joint_frames(chain, q)
-    point = tip[:3, 3]
-    jac = np.zeros((6, chain.n))
-    for joint, frame in zip(chain.joints, frames):
-        axis = frame[:3, :3] @ joint.axis
-        if joint.revolute:
-            column = np.concatenate([np.cross(axis, point - frame[:3, 3]), axis])
-        else:
-            column = np.concatenate([axis, np.zeros(3)])
-        jac[:, joint.variable] += joint.multiplier * column
-    return jac
+    columns = np.zeros((chain.n, 6))
+    if not frames:
+        return columns.T.copy()
+    # every joint at once (numpy per joint was 30 us a column: issue 15, a 50k-link chain)
+    stack = np.array(frames)
+    axes = np.einsum("mij,mj->mi", stack[:, :3, :3], np.array([j.axis for j in chain.joints]))
+    revolute = np.array([j.revolute for j in chain.joints])[:, None]
+    moment = np.cross(axes, tip[:3, 3] - stack[:, :3, 3])
+    each = np.hstack([np.where(revolute, moment, axes), np.where(revolute, axes, 0.0)])
+    each *= np.array([j.multiplier for j in chain.joints])[:, None]
+    np.add.at(columns, [j.variable for j in chain.joints], each)  # mimics add to their leader
+    return columns.T.copy()
 
 
 @dataclass(frozen=True)
