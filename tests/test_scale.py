@@ -45,13 +45,43 @@ def test_tree_of_a_50k_chain(chain):
     assert max(map(len, lines)) < 300  # the indentation stops growing
 
 
-def test_check_and_limits_of_a_50k_chain(chain):
+def test_check_limits_and_inertia_of_a_50k_chain(chain):
     check = run_urdftool("check", "--format", "json", chain)
     assert check.code in (0, 1), check.err
     assert json.loads(check.out)["summary"]["files"] == 1
     limits = run_urdftool("limits", chain)
     assert limits.code == 0, limits.err
     assert limits.out.count(" revolute ") == N - 1
+    inertia = run_urdftool("inertia", "--format", "json", chain)
+    assert inertia.code == 0, inertia.err
+    assert [link["link"] for link in json.loads(inertia.out)["links"]] == [f"l{i}" for i in range(N)]
+
+
+def test_convert_of_a_50k_sdf_chain(tmp_path):
+    """Each link posed 1 cm above its parent link (SDFormat 1.7 relative_to): the URDF has every
+    joint once, its origin the 1 cm step (up to the rounding of poses composed in the model
+    frame), in chain order."""
+    parts = ['<?xml version="1.0"?>\n<sdf version="1.7"><model name="rope">',
+             '<link name="l0"><inertial><mass>0.5</mass></inertial></link>']
+    for i in range(1, N):
+        parts.append(f'<link name="l{i}"><pose relative_to="l{i - 1}">0 0 0.01 0 0 0</pose>'
+                     f'<inertial><mass>0.5</mass></inertial></link><joint name="j{i}" '
+                     f'type="revolute"><parent>l{i - 1}</parent><child>l{i}</child><axis>'
+                     '<xyz>0 1 0</xyz><limit><lower>-0.1</lower><upper>0.1</upper></limit>'
+                     '</axis></joint>')
+    parts.append("</model></sdf>\n")
+    path = tmp_path / "rope.sdf"
+    path.write_text("\n".join(parts), encoding="utf-8")
+    result = run_urdftool("convert", "--trusted", path)
+    assert result.code == 0, result.err[:500]
+    joints = re.findall(r'<joint name="(j\d+)" type="revolute">\s*<origin xyz="([^"]*)"[^>]*/>\s*'
+                        r'<parent link="(l\d+)"/>\s*<child link="(l\d+)"/>', result.out)
+    assert [(name, parent, child) for name, _, parent, child in joints] == [
+        (f"j{i}", f"l{i - 1}", f"l{i}") for i in range(1, N)]
+    for _, xyz, _, _ in joints:
+        x, y, z = map(float, xyz.split())
+        assert x == y == 0 and z == pytest.approx(0.01, abs=1e-9)
+    assert result.out.count('<mass value="0.5"/>') == N
 
 
 def test_dh_and_jacobian_at_the_end_of_a_50k_chain(chain):
@@ -83,3 +113,36 @@ def test_big_tables_look_as_rich_draws_them(monkeypatch, command):
         drawn = run_urdftool(command, robot)
         assert drawn.code == by_rich.code and drawn.out == by_rich.out, robot
         assert "┃" in drawn.out
+
+
+def test_expand_of_many_sibling_macro_calls_is_plain_xacros(tmp_path):
+    """xacro replaces each call by its body through minidom's insertBefore/removeChild, which
+    urdftool makes look a child up near the last one (issue 15); the document is plain
+    xacro's: comments before calls dropped, blocks inserted, conditions, nested calls."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    calls = "".join(
+        f'  <!-- segment {i} -->\n  <xacro:seg i="{i}" parent="l{i - 1}"><origin xyz="0 0 {i}"/>'
+        f'</xacro:seg>\n  <xacro:if value="{i % 3 == 0}"><link name="extra{i}"/></xacro:if>\n'
+        for i in range(1, 400))
+    path = tmp_path / "many.urdf.xacro"
+    path.write_text(f"""<?xml version="1.0"?>
+<robot name="many" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:macro name="mass" params="m"><inertial><mass value="${{m}}"/></inertial></xacro:macro>
+  <xacro:macro name="seg" params="i parent *origin">
+    <!-- kept: inside the body -->
+    <link name="l${{i}}"><xacro:mass m="${{i / 10}}"/></link>
+    <joint name="j${{i}}" type="fixed"><parent link="${{parent}}"/><child link="l${{i}}"/>
+      <xacro:insert_block name="origin"/></joint>
+  </xacro:macro>
+  <link name="l0"/>
+{calls}</robot>
+""")
+    ours = run_urdftool("expand", "--trusted", path)
+    assert ours.code == 0, ours.err
+    theirs = subprocess.run([str(Path(sys.executable).parent / "xacro"), str(path)],
+                            capture_output=True, text=True, check=True).stdout
+    assert ours.out == theirs
+    assert ours.out.count("<joint ") == 399 and ours.out.count('name="extra') == 133

@@ -123,6 +123,7 @@ class Reader:
                     self.model_paths.append(Path(entry))
         self._element_doc: dict[int, Doc] = {}  # id(root) -> doc
         self._lines: dict[int, list[str]] = {}  # id(doc) -> its lines, split once (issue 15)
+        self._locs: dict = {}  # SDF element -> its Loc, shared by the URDF elements made from it
         self._include_stack: list[Path] = []
 
     # -- reporting -------------------------------------------------------------------------
@@ -132,6 +133,12 @@ class Reader:
         return self._element_doc.get(id(root))
 
     def loc(self, element) -> Loc:
+        known = self._locs.get(element)
+        if known is None:
+            known = self._locs[element] = self._loc(element)
+        return known
+
+    def _loc(self, element) -> Loc:
         doc = self.doc_of(element)
         if doc is None:
             return Loc(self.source.path)
