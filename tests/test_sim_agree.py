@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 
-from tests.conftest import example_robot_data_dir, pybullet_data_dir
+from tests.conftest import example_robot_data_dir, pybullet_data_dir, pybullet_urdfs
 from tests.test_sim import arm
 from urdftool.sim import SimOptions, simulate
 
@@ -51,7 +51,8 @@ def test_ancestor_overlap_fails_unless_the_srdf_disables_it():
     assert moveit.check("self-collision").status == "pass"
 
 
-def test_sim_jobs_default_is_the_cpus_like_check(monkeypatch):
+def test_sim_jobs_default_grows_with_the_work(monkeypatch):
+    """Like ``check``: a handful of small models is one worker; many, one per CPU."""
     import urdftool.check
     from urdftool.sim import runner
 
@@ -68,8 +69,11 @@ def test_sim_jobs_default_is_the_cpus_like_check(monkeypatch):
     monkeypatch.setattr(runner, "ProcessPoolExecutor", Pool)
     monkeypatch.setattr(urdftool.check, "available_cpus", lambda: 3)
     robots = sorted((pybullet_data_dir() / "quadruped").glob("*.urdf"))[:4]
-    assert len(robots) == 4
-    with pytest.raises(Sized):
-        runner.run_all([str(p) for p in robots], SimOptions())
-    assert seen == [3]
+    assert len(robots) == 4 and all(p.stat().st_size < 100_000 for p in robots)
+    many = pybullet_urdfs()[:60]  # 60 x 50 ms at least: 3 s of work
+    assert len(many) == 60
+    for paths in (robots, many):
+        with pytest.raises(Sized):
+            runner.run_all([str(p) for p in paths], SimOptions())
+    assert seen == [1, 3]
     assert SimOptions().jobs is None

@@ -234,19 +234,21 @@ SECONDS_PER_BYTE = 3e-7
 WORK_PER_WORKER = 1.0
 
 
-def default_jobs(paths: list) -> int:
+def default_jobs(paths: list, per_file: float = SECONDS_PER_FILE,
+                 per_byte: float = SECONDS_PER_BYTE) -> int:
     """The most worker processes worth having when --jobs is not given: one per
-    ``WORK_PER_WORKER`` seconds of work estimated from the files' count and sizes, at most the
-    CPUs available. A handful of small files is checked in this process (issue 15: a pool of 2
-    was 1.2x slower than one process on the corpus); ``check`` then measures (see
-    ``_check_measured``). ``urdftool sim`` can size its pool the same way."""
+    ``WORK_PER_WORKER`` seconds of work estimated from the files' count and sizes (``per_file``
+    seconds a file plus ``per_byte`` a byte), at most the CPUs available. A handful of small
+    files is checked in this process (issue 15: a pool of 2 was 1.2x slower than one process
+    on the corpus); ``check`` then measures (see ``_check_measured``). ``urdftool sim`` sizes
+    its pool the same way with its own costs."""
     work = 0.0
     for path in paths:
         try:
             size = os.stat(path).st_size
         except OSError:
             size = 0
-        work += SECONDS_PER_FILE + size * SECONDS_PER_BYTE
+        work += per_file + size * per_byte
     return max(1, min(available_cpus(), len(paths), int(work / WORK_PER_WORKER)))
 
 

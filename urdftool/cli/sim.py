@@ -77,8 +77,8 @@ def _pairs(values: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
 @click.option("--size", default="640x480", show_default=True, metavar="WxH",
               help="Picture size in pixels.")
 @click.option("-j", "--jobs", type=click.IntRange(min=1, max=256), default=None,
-              help="Models simulated in parallel processes (default: one per CPU available, "
-                   "as `check`).")
+              help="Models simulated in parallel processes (default: by the amount of work, "
+                   "at most one per CPU, as `check`).")
 @click.option("--model", "sdf_model", metavar="NAME",
               help="SDF input: the model of a world to simulate (default: the first).")
 @click.option("--model-path", "model_paths", multiple=True, metavar="DIR",

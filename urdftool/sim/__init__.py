@@ -50,7 +50,7 @@ class SimOptions:
     strict_collision: bool = True  # also fail on overlaps between a link and its ancestors
     render: str | None = None  # PNG path (or directory) for pictures
     size: tuple[int, int] = (640, 480)
-    jobs: int | None = None  # worker processes; None: one per CPU available, as `check`
+    jobs: int | None = None  # worker processes; None: by the work (check.default_jobs)
     repaired: bool = False  # simulate the XML as urdftool repairs it (past the XML errors)
     packages: dict[str, str] = field(default_factory=dict)
     xacro_args: dict[str, str] = field(default_factory=dict)

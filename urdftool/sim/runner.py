@@ -18,6 +18,13 @@ from urdftool.errors import ToolError
 from urdftool.sim import CHECKS, CheckResult, ModelResult, SimOptions
 
 
+# what a model costs a worker (PyBullet's load and 240 steps; pybullet_data and
+# example-robot-data on one 2-core machine: 30 to 180 ms CPU, ~1.3 us per byte of the file):
+# a handful of models is simulated by one worker, the pool grows with the work (issue 15)
+SECONDS_PER_MODEL = 0.05
+SECONDS_PER_BYTE = 1.5e-6
+
+
 def _init_worker() -> None:
     devnull = os.open(os.devnull, os.O_WRONLY)
     os.dup2(devnull, 1)
@@ -99,9 +106,11 @@ def run_all(paths: list[str], options: SimOptions, progress=None) -> list[ModelR
     require_pybullet()
     pictures = picture_paths([f for f, _ in files], options.render)
     results: list[ModelResult | None] = [None] * len(files)
-    from urdftool.check import available_cpus
+    from urdftool.check import default_jobs
 
-    jobs = max(1, min(options.jobs or available_cpus(), len(files)))
+    steps = options.duration * options.rate / 240  # the default 1 s at 240 Hz is 1
+    jobs = max(1, min(options.jobs or default_jobs(
+        [f for f, _ in files], SECONDS_PER_MODEL * max(steps, 1), SECONDS_PER_BYTE), len(files)))
     context = _context()
     try:
         with ProcessPoolExecutor(jobs, mp_context=context, initializer=_init_worker) as pool:
