@@ -5,7 +5,9 @@ stretches wall time, much less CPU time.
   baselines   python start (`python -c pass`), an lxml parse of the same file,
               check_urdf (urdfdom's C++ binary from the `pin` wheel) when it is there
   growth      check, tree, tree --format json, limits, limits --format json, inertia --format
-              json over 10, 100, 1k, 10k, 50k links, a serial chain and a branching tree
+              json, dh and jacobian --format json (to the last link: the whole chain, or the
+              tree's deepest path), convert (the same robot written in SDFormat 1.7) over 10,
+              100, 1k, 10k, 50k links, a serial chain and a branching tree
               (benchmarks/generated.py), with the fitted log-log slope from 1k up and the
               10k -> 50k ratio; text tables against their JSON
   peak memory of check per link (max RSS over the links)
@@ -28,12 +30,15 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from generated import robot_text
+from generated import robot_text, sdf_text
 
 COMMANDS = {"check": ["check", "--format", "json"], "tree": ["tree"],
             "tree json": ["tree", "--format", "json"], "limits": ["limits"],
             "limits json": ["limits", "--format", "json"],
-            "inertia json": ["inertia", "--format", "json"]}
+            "inertia json": ["inertia", "--format", "json"],
+            "dh json": ["dh", "--format", "json", "--tip", "{tip}"],
+            "jacobian json": ["jacobian", "--format", "json", "--tip", "{tip}"],
+            "convert": ["convert", "--trusted", "-o", "{out}"]}  # of the SDF file
 
 
 def cpu(command: list[str], runs: int, env: dict | None = None) -> tuple[float, int]:
@@ -44,6 +49,8 @@ def cpu(command: list[str], runs: int, env: dict | None = None) -> tuple[float, 
                               env=env) as child:
             _, status, usage = os.wait4(child.pid, 0)
             child.returncode = os.waitstatus_to_exitcode(status)
+        if child.returncode not in (0, 1):  # 1: findings; anything else did not finish
+            print(f"  (exit {child.returncode}: {' '.join(command[-6:])})", file=sys.stderr)
         times.append(usage.ru_utime + usage.ru_stime)
         rss = max(rss, usage.ru_maxrss)
     return statistics.median(times), rss
@@ -83,26 +90,31 @@ def main() -> None:
         for shape in ("chain", "tree"):
             print(f"\n{shape}: CPU seconds (x = ratio to the lxml parse of the same file)")
             header = f"{'links':>7} {'lxml':>7} {'check_urdf':>10} " + " ".join(
-                f"{name:>13}" for name in COMMANDS) + f" {'check KB/link':>13}"
+                f"{name:>13}" for name in COMMANDS) + f" {'check KB/link':>13} {'convert KB/link':>15}"
             print(header)
             series: dict[str, list[tuple[int, float]]] = {name: [] for name in COMMANDS}
             for n in sizes:
                 path = Path(tmp) / f"{shape}{n}.urdf"
                 path.write_text(robot_text(n, shape))
+                sdf = Path(tmp) / f"{shape}{n}.sdf"
+                sdf.write_text(sdf_text(n, shape))
                 parse, _ = cpu([python, "-c", "import sys, lxml.etree as e; e.parse(sys.argv[1])",
                                 str(path)], args.runs, env)
                 reference = "-"
                 if theirs is not None:
                     reference = f"{cpu(theirs[0] + [str(path)], args.runs, theirs[1])[0]:.3f}"
-                cells, per_link = [], 0.0
+                cells, per_link = [], {}
                 for name, command in COMMANDS.items():
-                    taken, rss = cpu(urdftool + command + [str(path)], args.runs, env)
+                    argv = [a.format(tip=f"l{n - 1}", out=Path(tmp) / "out.urdf")
+                            for a in command]
+                    given = sdf if name == "convert" else path
+                    taken, rss = cpu(urdftool + argv + [str(given)], args.runs, env)
                     series[name].append((n, taken))
                     cells.append(f"{taken:7.3f} {taken / parse:4.1f}x")
-                    if name == "check":
-                        per_link = rss * 1024 / n
+                    if name in ("check", "convert"):
+                        per_link[name] = rss * 1024 / n
                 print(f"{n:>7} {parse:7.3f} {reference:>10} " + " ".join(cells)
-                      + f" {per_link / 1024:13.1f}")
+                      + f" {per_link['check'] / 1024:13.1f} {per_link['convert'] / 1024:15.1f}")
             print("slope (log-log, from 1k links):", ", ".join(
                 f"{name} {slope([p for p in pts if p[0] >= 1000]):.2f}"
                 for name, pts in series.items() if len([p for p in pts if p[0] >= 1000]) > 1))
