@@ -322,3 +322,7 @@ def test_included_files_are_named_as_the_entry_was(demo, monkeypatch, absolute):
     text = run_urdftool("check", "--jobs", "1", given).out
     shown = [line.split(":")[0] for line in text.splitlines() if ".xacro:" in line]
     assert shown and all(Path(p).is_absolute() == absolute for p in shown), text
+    # changed-files mode finds the package's entries itself: named the same way
+    _, report, _ = check("--changed", str(Path(given) / "urdf" / "wheel.xacro"))
+    paths = {d["path"] for d in findings(report)} | {f["path"] for f in report["files"]}
+    assert paths and all(Path(p).is_absolute() == absolute for p in paths), paths

@@ -27,7 +27,7 @@ from typing import NamedTuple
 from urdftool.config import find_config, parse_config
 from urdftool.errors import ToolError
 from urdftool.report import FileReport
-from urdftool.source import ROBOT_SUFFIXES
+from urdftool.source import ROBOT_SUFFIXES, shown_path
 
 # what a file that only defines things holds at its top level, once expanded
 DEFINITION_TAGS = frozenset({"material", "gazebo", "ros2_control", "transmission",
@@ -98,8 +98,7 @@ def plan(paths: list[str], changed: bool = False) -> tuple[list[Target], set[str
         roots = sorted({package_root(Path(p)) for p in given})
         known = {str(f.resolve()) for f in files}
         for root in roots:
-            relative = _shown(root)
-            for found in robot_files(relative):
+            for found in robot_files(_shown(root, paths)):
                 if str(found.resolve()) not in known:
                     known.add(str(found.resolve()))
                     files.append(found)
@@ -125,7 +124,7 @@ def plan(paths: list[str], changed: bool = False) -> tuple[list[Target], set[str
         for config in configs.get("configs", {}).values():
             for entry in config.entries:
                 if str(entry.path) not in configured:
-                    targets.append(Target(str(_shown(entry.path)), entry.args, config.packages,
+                    targets.append(Target(str(_shown(entry.path, paths)), entry.args, config.packages,
                                           True))
     return targets, given
 
@@ -144,12 +143,11 @@ def _launched(file: Path, memo: dict) -> list[tuple[dict[str, str], str]]:
     return found[root].get(file.name, [])
 
 
-def _shown(path: Path) -> Path:
-    """``path`` relative to the working directory when inside it (as findings show paths)."""
-    try:
-        return path.resolve().relative_to(Path.cwd().resolve())
-    except ValueError:
-        return path
+def _shown(path: Path, given: list[str]) -> Path:
+    """``path`` named as the given paths are (relative to the working directory unless every
+    one was absolute), as findings name files."""
+    relative = next((raw for raw in given if not os.path.isabs(raw)), None)
+    return Path(shown_path(path, relative if relative is not None else os.sep))
 
 
 def classify(targets: list[Target], reports: list[FileReport],
