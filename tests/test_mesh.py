@@ -363,11 +363,17 @@ def test_corpus_mass_properties_match_trimesh(suffix):
 
 
 def test_sdf_model_uri_is_reported_once(write):
-    # the SDF reader names an unresolved model:// with the model paths it searched; the mesh
-    # rule does not repeat it
-    text = ('<sdf version="1.7"><model name="m"><link name="a"><visual name="v"><geometry>'
-            '<mesh><uri>model://no_such_model_q/a.stl</uri></mesh></geometry></visual></link>'
-            '</model></sdf>')
+    # the SDF reader names an unresolved model:// with the model paths it searched, once per
+    # missing model; the mesh rule does not repeat it
+    visual = ("<visual name='v{n}'><geometry><mesh><uri>{uri}</uri></mesh></geometry>"
+              "</visual>")
+    uris = ["model://no_such_model_q/a.stl", "model://no_such_model_q/b.stl",
+            "model://no_such_model_q/c.stl", "model://other_model_q/a.stl"]
+    text = ('<sdf version="1.7"><model name="m"><link name="a">'
+            + "".join(visual.format(n=n, uri=uri) for n, uri in enumerate(uris))
+            + '</link></model></sdf>')
     ds = check_file(write(text, "m.sdf"), CheckOptions()).diagnostics
-    rules = [d.rule for d in ds if "no_such_model_q" in d.message]
-    assert rules == ["sdf.mesh-uri"], [(d.rule, d.message) for d in ds]
+    found = [(d.rule, d.message) for d in ds if "_model_q" in d.message]
+    assert [rule for rule, _ in found] == ["sdf.mesh-uri", "sdf.mesh-uri"], found
+    assert "'model://no_such_model_q/a.stl' (and 2 more meshes like it)" in found[0][1]
+    assert "'model://other_model_q/a.stl' is not found" in found[1][1]

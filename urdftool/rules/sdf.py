@@ -238,7 +238,8 @@ source_rule(
     doc="""URDF tools read local paths and `package://` URIs. `model://NAME/...` is rewritten to
     a path when the model is found (`--model-path`, resource path variables) or to
     `package://...` with `--package-uri`; otherwise, and for network URLs, it is kept as written
-    and will not load.""",
+    and will not load. One finding per missing model (and one for network meshes), at its first
+    mesh, counting the rest.""",
     bad=_model('<link name="base"><visual name="v"><geometry><mesh><uri>model://no_such_model'
                "_anywhere/meshes/a.dae</uri></mesh></geometry></visual></link>"),
     good=_model('<link name="base"><visual name="v"><geometry><box><size>1 1 1</size></box>'

@@ -105,6 +105,8 @@ class Builder:
         self.materials: dict[tuple, str] = {}
         self.material_elements: list = []
         self.unlimited: list[tuple[str, object]] = []
+        # meshes kept as written, by what is missing (a model, the network): reported once each
+        self.unread_meshes: dict[str, list[tuple[str, object]]] = {}
 
     def named(self, entity: Entity) -> bool:
         node = self.graph.nodes.get(entity.key)
@@ -188,6 +190,7 @@ class Builder:
         self.emit_frames()
         self.emit_model_extras()
         self.report_unlimited()
+        self.report_unread_meshes()
         for element in reversed(self.material_elements):
             self.root.insert(0, element)
         self.add_name_comment()
@@ -978,6 +981,24 @@ class Builder:
 
     # -- meshes -----------------------------------------------------------------------------
 
+    def report_unread_meshes(self) -> None:
+        """One sdf.mesh-uri per missing model (one --model-path finds all its meshes) and one
+        for the network meshes, at the first, counting the rest."""
+        for missing, meshes in self.unread_meshes.items():
+            uri, element = meshes[0]
+            more = (f" (and {len(meshes) - 1} more mesh{'es' if len(meshes) > 2 else ''} "
+                    "like it)") if len(meshes) > 1 else ""
+            if missing:
+                self.report("sdf.mesh-uri", f"mesh '{uri}'{more} is not found in the model "
+                            "paths; URDF tools do not read model:// URIs: kept as written",
+                            element, hint="give --model-path DIR, or --package-uri "
+                                          "package://PKG/models")
+            else:
+                self.report("sdf.mesh-uri", f"mesh '{uri}'{more} is on the network; URDF "
+                            "tools read local files and package:// URIs: kept as written",
+                            element, hint="download it next to the model and use a relative "
+                                          "path")
+
     def mesh_filename(self, uri: str, element) -> str:
         doc = self.reader.doc_of(element)
         base = doc.directory if doc is not None else Path.cwd()
@@ -997,15 +1018,11 @@ class Builder:
                 return general.rstrip("/") + "/" + rest
             found = self.reader.resolve_uri(uri, base)
             if found is None:
-                self.report("sdf.mesh-uri", f"mesh '{uri}' is not found in the model paths; "
-                            "URDF tools do not read model:// URIs: kept as written", element,
-                            hint="give --model-path DIR, or --package-uri package://PKG/models")
+                self.unread_meshes.setdefault(f"model://{model}", []).append((uri, element))
                 return uri
             return self._relative(found)
         if uri.startswith(("http://", "https://")):
-            self.report("sdf.mesh-uri", f"mesh '{uri}' is on the network; URDF tools read "
-                        "local files and package:// URIs: kept as written", element,
-                        hint="download it next to the model and use a relative path")
+            self.unread_meshes.setdefault("", []).append((uri, element))
             return uri
         uri = uri.removeprefix("file://")
         if os.path.isabs(uri):
