@@ -298,6 +298,25 @@ def tail_edit(texts: dict[str, str], loc, names: tuple[str, ...], attr: str, old
     return edit(loc.path, text, span[3] - len(old), span[3], new, starts)
 
 
+def text_edit(texts: dict[str, str], loc, names: tuple[str, ...], new: str) -> Edit | None:
+    """The edit making ``new`` the text of the element written at ``loc`` (``<tag>text</tag>``,
+    blanks around it kept); None when its text is computed (``${...}``) or not found."""
+    text = texts.get(loc.path) if loc is not None else None
+    if text is None:
+        return None
+    starts = line_starts(text)
+    tag = tag_at(text, starts, loc.line, loc.column, names)
+    if tag is None or text[tag[1] - 2] == "/":
+        return None
+    end = text.find("<", tag[1])
+    content = text[tag[1]:end] if end >= 0 else ""
+    value = content.strip()
+    if not value or "${" in value or "$(" in value:
+        return None
+    start = tag[1] + content.index(value)
+    return edit(loc.path, text, start, start + len(value), new, starts)
+
+
 def rename_element(texts: dict[str, str], loc, old: str, new: str) -> tuple[Edit, ...]:
     """Edits renaming the element written at ``loc`` from ``old`` to ``new`` (start and end
     tag); () when it cannot be found."""

@@ -128,6 +128,18 @@ def rename_edits(robot: Robot, loc, tag: str, attribute: str, name: str, candida
     return edits, new, note
 
 
+def child_loc(robot: Robot, loc, tag: str):
+    """Where the first ``<tag>`` child of the element written at ``loc`` was written (found by
+    the element path the Loc carries), or None."""
+    if robot.root is None or loc is None or not loc.element:
+        return None
+    try:
+        found = robot.root.getroottree().xpath(loc.element + "/" + tag)
+    except Exception:  # noqa: BLE001 - an odd path: no child found
+        return None
+    return robot.loc(found[0]) if found else None
+
+
 _loaded = False
 
 

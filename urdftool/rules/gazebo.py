@@ -327,7 +327,8 @@ def _drive_pairs(plugin):
       computes odometry from them. When they disagree with the distance between the wheel
       joints and the wheels' radius, the robot turns at the wrong rate and odometry drifts. A
       left joint on the robot's right side (negative y in the base frame, x forward) makes the
-      robot turn the wrong way.""",
+      robot turn the wrong way. The fix (unsafe: it trusts the joints) writes the measured
+      separation and wheel size into the plugin, and swaps its left and right joints.""",
       bad='<robot name="r">\n  <link name="base"/><link name="l"/><link name="rw"/>\n'
           '  <joint name="left" type="continuous"><parent link="base"/><child link="l"/>\n'
           '    <origin xyz="0 0.15 0"/><axis xyz="0 1 0"/></joint>\n'
@@ -345,7 +346,8 @@ def _drive_pairs(plugin):
            '  <gazebo><plugin name="dd" filename="libgazebo_ros_diff_drive.so">\n'
            '    <leftJoint>left</leftJoint><rightJoint>right</rightJoint>\n'
            '    <wheelSeparation>0.3</wheelSeparation><robotBaseFrame>base</robotBaseFrame>\n'
-           '  </plugin></gazebo>\n</robot>')
+           '  </plugin></gazebo>\n</robot>',
+      fix="unsafe")
 def drive_geometry(robot: Robot):
     for plugin in plugins(robot):
         base_names = [t.lstrip("/") for t, _ in _values(plugin, "robotBaseFrame",
@@ -363,12 +365,12 @@ def drive_geometry(robot: Robot):
             right_pose = _in_frame(robot, base, right_joint.child)
             if left_pose is None or right_pose is None:
                 continue
-            yield from _check_pair(robot, base, left_joint, right_joint, left_node, left_pose,
-                                   right_pose, separation, size)
+            yield from _check_pair(robot, base, left_joint, right_joint, left_node,
+                                   right_node, left_pose, right_pose, separation, size)
 
 
-def _check_pair(robot, base, left_joint, right_joint, left_node, left_pose, right_pose,
-                separation, size):
+def _check_pair(robot, base, left_joint, right_joint, left_node, right_node, left_pose,
+                right_pose, separation, size):
     axis = _apply(left_pose[0], left_joint.axis_or_default)
     norm = math.sqrt(sum(a * a for a in axis))
     delta = tuple(a - b for a, b in zip(left_pose[1], right_pose[1]))
@@ -384,7 +386,8 @@ def _check_pair(robot, base, left_joint, right_joint, left_node, left_pose, righ
             yield Finding(f"<{tag}> is {text} but the wheel joints '{left_joint.name}' and "
                           f"'{right_joint.name}' are {distance:.6g} m apart along the wheel "
                           "axis: the robot turns at the wrong rate and odometry drifts",
-                          robot.loc(node), hint=f"<{tag}>{distance:.6g}</{tag}>")
+                          robot.loc(node), hint=f"<{tag}>{distance:.6g}</{tag}>",
+                          edits=_text_edits(robot, (node, f"{distance:.9g}")))
     if size is not None and size[1] is not None:
         kind, value, node = size
         radius = _wheel_radius(robot, left_joint.name)
@@ -393,7 +396,8 @@ def _check_pair(robot, base, left_joint, right_joint, left_node, left_pose, righ
             tag = _local(node.tag)
             yield Finding(f"<{tag}> is {value:g} but wheel '{left_joint.child}' has radius "
                           f"{radius:g} ({kind} {expected:g}): speeds and odometry are scaled "
-                          "wrong", robot.loc(node), hint=f"<{tag}>{expected:g}</{tag}>")
+                          "wrong", robot.loc(node), hint=f"<{tag}>{expected:g}</{tag}>",
+                          edits=_text_edits(robot, (node, f"{expected:.9g}")))
     lateral = left_pose[1][1] - right_pose[1][1]
     if lateral < -1e-6:
         plugin_line = robot.loc(left_node).line
@@ -403,7 +407,19 @@ def _check_pair(robot, base, left_joint, right_joint, left_node, left_pose, righ
                       f"and its right wheel joint '{right_joint.name}' on the left "
                       f"(y = {right_pose[1][1]:.6g} m): the robot turns the wrong way",
                       _origin_loc(robot, left_joint),
-                      hint="swap the two joints' <origin>s (or the plugin's left/right joints)")
+                      hint="swap the two joints' <origin>s (or the plugin's left/right joints)",
+                      edits=_text_edits(robot, (left_node, right_joint.name),
+                                        (right_node, left_joint.name)))
+
+
+def _text_edits(robot: Robot, *changes) -> tuple:
+    """Edits writing each (plugin parameter element, new text): all, or none when one of them
+    is computed in the file as written."""
+    from urdftool.edits import text_edit
+
+    edits = tuple(text_edit(robot.source.texts, robot.loc(node), (_local(node.tag),), new)
+                  for node, new in changes)
+    return () if None in edits else edits
 
 
 def _origin_loc(robot: Robot, joint):

@@ -13,7 +13,7 @@ from collections.abc import Iterator
 
 from urdftool.physics.inertia import rpy_matrix
 from urdftool.report import Finding
-from urdftool.rules import rule
+from urdftool.rules import child_loc, rule, value_edits
 
 HUGE = 1e9  # metres: bounds beyond this are not a robot
 
@@ -99,6 +99,42 @@ def _wheel(visual: str, collision: str | None) -> str:
     return _ROBOT.format(body + '  </link>\n' + _JOINT)
 
 
+def _size_edits(robot, link, shape):
+    """(edits, note) making the shape's dimensions positive: a non-positive one taken from the
+    link's one shape of the same kind in the other role, a negative one without it made
+    positive; ((), "") when a zero has no such twin."""
+    from urdftool.edits import number
+
+    geometry = shape.geometry
+    twins = [s.geometry for s in link.shapes
+             if s.role != shape.role and s.geometry.kind == geometry.kind]
+    twin = twins[0] if len(twins) == 1 else None
+
+    def mend(value, other):
+        if value > 0:
+            return value
+        if other is not None and other > 0:
+            return other
+        return -value if value < 0 else None
+
+    values = {}
+    if geometry.kind == "box":
+        other = twin.size if twin is not None and twin.size is not None else (None,) * 3
+        size = [mend(v, o) for v, o in zip(geometry.size, other)]
+        if None in size:
+            return (), ""
+        values["size"] = " ".join(number(v) for v in size)
+    else:
+        for name in ("radius",) if geometry.kind == "sphere" else ("radius", "length"):
+            value = getattr(geometry, name)
+            if value is not None and value <= 0:
+                new = mend(value, getattr(twin, name) if twin is not None else None)
+                if new is None:
+                    return (), ""
+                values[name] = number(new)
+    return value_edits(robot, geometry.loc, (geometry.kind,), values) if values else ((), "")
+
+
 @rule("geometry.nonpositive-size", "error", "a shape with a zero or negative size",
       doc="""
 Box sizes, radii and lengths must be positive, and a mesh scale must not have a zero
@@ -106,15 +142,24 @@ component: a zero-size shape has no volume, so collision detection ignores it or
 zero, and newer urdfdom versions reject it ("Box size must be positive finite values"). A
 negative mesh scale is allowed (it mirrors the mesh); a negative box size or radius is not.
 A zero-size *visual* only draws nothing (a stand-in for "no visual"): a warning, remove it.
+
+The fix (unsafe: it chooses a size) takes the missing dimension from the link's one shape of
+the same kind in the other role (the visual of a collision, the collision of a visual), and
+makes a negative dimension positive; a zero with no such twin is left to you.
 """,
-      bad=_ROBOT.format('  <link name="plate">\n    <collision>\n'
+      bad=_ROBOT.format('  <link name="plate">\n    <visual>\n'
+                        '      <geometry><box size="0.2 0.2 0.005"/></geometry>\n'
+                        '    </visual>\n    <collision>\n'
                         '      <geometry><box size="0.2 0.2 0"/></geometry>\n'
                         '    </collision>\n  </link>\n  <joint name="j" type="fixed">'
                         '<parent link="base"/><child link="plate"/></joint>'),
-      good=_ROBOT.format('  <link name="plate">\n    <collision>\n'
+      good=_ROBOT.format('  <link name="plate">\n    <visual>\n'
+                         '      <geometry><box size="0.2 0.2 0.005"/></geometry>\n'
+                         '    </visual>\n    <collision>\n'
                          '      <geometry><box size="0.2 0.2 0.005"/></geometry>\n'
                          '    </collision>\n  </link>\n  <joint name="j" type="fixed">'
-                         '<parent link="base"/><child link="plate"/></joint>'))
+                         '<parent link="base"/><child link="plate"/></joint>'),
+      fix="unsafe")
 def nonpositive_size(robot) -> Iterator[Finding]:
     for link in robot.links:
         for shape in link.shapes:
@@ -137,11 +182,12 @@ def nonpositive_size(robot) -> Iterator[Finding]:
                     what = ", ".join(f"{geometry.kind} {n} {v:g}" for n, v in bad) + " is"
                 # A zero-size visual only draws nothing; anything else is wrong physics.
                 harmless = shape.role == "visual" and all(v == 0 for _, v in bad)
+                edits, note = _size_edits(robot, link, shape)
                 yield Finding(f"{where}: {what} not positive"
                               + (" (it draws nothing: remove the visual instead)"
                                  if harmless else ""), loc,
-                              hint="every size must be positive", severity="warning"
-                              if harmless else None)
+                              hint="every size must be positive" + note, severity="warning"
+                              if harmless else None, edits=edits)
             elif geometry.kind == "mesh" and any(s == 0 for s in geometry.scale):
                 scale = " ".join(f"{s:g}" for s in geometry.scale)
                 yield Finding(f"{where}: mesh scale {scale} has a zero component: the mesh is "
@@ -166,11 +212,15 @@ diameter swapped, an origin copied from another link). Compared are the bounding
 primitive visuals and collisions of each link (meshes are the `mesh` family's business): the
 largest extents may differ by up to 5x, and the boxes may not be apart by more than the larger
 shape's size. Shapes under 5 mm are taken as placeholders and not compared.
+
+The fix (unsafe: it trusts the visual) gives a link's one collision the dimensions of its one
+visual of the same kind, or, the shapes being the same, the visual's `<origin>`.
 """,
       bad=_wheel('<cylinder radius="0.05" length="0.02"/>',
                  '<cylinder radius="0.5" length="0.02"/>'),
       good=_wheel('<cylinder radius="0.05" length="0.02"/>',
-                  '<cylinder radius="0.05" length="0.02"/>'))
+                  '<cylinder radius="0.05" length="0.02"/>'),
+      fix="unsafe")
 def visual_collision_mismatch(robot) -> Iterator[Finding]:
     for link in robot.links:
         if not link.visuals or not link.collisions:
@@ -195,18 +245,54 @@ def visual_collision_mismatch(robot) -> Iterator[Finding]:
         if ratio > SIZE_RATIO or ratio < 1 / SIZE_RATIO:
             bigger = "larger" if ratio > 1 else "smaller"
             factor = ratio if ratio > 1 else 1 / ratio
+            edits, note = _follow_visual(robot, link, "size")
             yield Finding(f"link '{link.name}': the collision ({label}, {solid:g} across) is "
                           f"{factor:.3g}x {bigger} than the visual ({shown}, {seen:g} across)",
                           first.geometry.loc or first.loc,
-                          hint="make the collision match what the visual shows")
+                          hint="make the collision match what the visual shows" + note,
+                          edits=edits)
             continue
         gap = _gap(visual, collision)
         if gap > GAP_RATIO * max(seen, solid):
             a, b = _centre(visual), _centre(collision)
             offset = " ".join(f"{b[i] - a[i]:g}" for i in range(3))
+            edits, note = _follow_visual(robot, link, "place")
             yield Finding(f"link '{link.name}': the collision ({label}) is {gap:g} away from the "
                           f"visual ({shown}); centres differ by ({offset})", first.loc,
-                          hint="check the collision's <origin>: it should overlap the visual")
+                          hint="check the collision's <origin>: it should overlap the visual"
+                               + note, edits=edits)
+
+
+def _follow_visual(robot, link, what: str):
+    """(edits, note) of the unsafe fix: a link's one collision made like its one visual of the
+    same kind, in ``what`` it differs ("size": the dimensions; "place": the <origin>, when the
+    shapes are the same and the collision has one). ((), "") otherwise."""
+    from urdftool.edits import number
+
+    if len(link.visuals) != 1 or len(link.collisions) != 1:
+        return (), ""
+    visual, collision = link.visuals[0], link.collisions[0]
+    kind = visual.geometry.kind
+    if kind != collision.geometry.kind or kind not in ("box", "cylinder", "sphere", "capsule"):
+        return (), ""
+    dimensions = ("size",) if kind == "box" else ("radius",) if kind == "sphere" \
+        else ("radius", "length")
+    if what == "size":
+        values = {}
+        for name in dimensions:
+            value = getattr(visual.geometry, name)
+            if value is None:
+                return (), ""
+            values[name] = " ".join(map(number, value)) if name == "size" else number(value)
+        return value_edits(robot, collision.geometry.loc, (kind,), values)
+    if any(getattr(visual.geometry, n) != getattr(collision.geometry, n) for n in dimensions):
+        return (), ""
+    origin = child_loc(robot, collision.loc, "origin")
+    if origin is None:
+        return (), ""
+    return value_edits(robot, origin, ("origin",),
+                       {"xyz": " ".join(map(number, visual.origin.xyz)),
+                        "rpy": " ".join(map(number, visual.origin.rpy))})
 
 
 def _no_collision_anywhere(robot) -> bool:

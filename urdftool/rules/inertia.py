@@ -22,7 +22,7 @@ import math
 from urdftool.physics import links as analysis
 from urdftool.physics.links import AXIS_NAMES
 from urdftool.report import Finding
-from urdftool.rules import rule, value_edits
+from urdftool.rules import child_loc, rule, value_edits
 
 _INERTIA = '<inertia ixx="{0}" ixy="0" ixz="0" iyy="{1}" iyz="0" izz="{2}"/>'
 
@@ -54,15 +54,7 @@ def _mass_loc(link):
 
 def _origin_loc(robot, link):
     """Where the <origin> of a link's <inertial> was written, if it has one."""
-    inertial = link.inertial
-    if robot.root is None or inertial is None or inertial.loc is None \
-            or not inertial.loc.element:
-        return None
-    try:
-        found = robot.root.getroottree().xpath(inertial.loc.element + "/origin")
-    except Exception:  # noqa: BLE001 - an odd path: fall back to the <inertial>
-        return None
-    return robot.loc(found[0]) if found else None
+    return child_loc(robot, link.inertial.loc, "origin") if link.inertial is not None else None
 
 
 def _analyses(robot, name: str):
@@ -503,7 +495,8 @@ the hull of the link's visual and collision geometry together and reports a cent
 outside it by more than a quarter of the body's width in that direction (decimated meshes and
 rounded numbers stay well within that). Common causes: the inertial `<origin>` copied from the
 joint or written in the parent's frame, a sign error, a `<pose>` that URDF ignores, or
-geometry that leaves out a heavy part.""",
+geometry that leaves out a heavy part. The fix (unsafe: it trusts the geometry) puts the
+inertial `<origin xyz>` at the geometry's centroid.""",
       bad=_robot('<link name="chassis">\n  <inertial><origin xyz="0 0 0.1"/>'
                  '<mass value="5"/>' + _INERTIA.format(0.0395, 0.106, 0.142) + '</inertial>\n'
                  '  <visual><geometry><box size="0.5 0.3 0.07"/></geometry></visual>\n'
@@ -511,7 +504,8 @@ geometry that leaves out a heavy part.""",
       good=_robot('<link name="chassis">\n  <inertial><origin xyz="0 0 0"/>'
                   '<mass value="5"/>' + _INERTIA.format(0.0395, 0.106, 0.142) + '</inertial>\n'
                   '  <visual><geometry><box size="0.5 0.3 0.07"/></geometry></visual>\n'
-                  '</link>'))
+                  '</link>'),
+      fix="unsafe")
 def com_outside_geometry(robot):
     for a in _analyses(robot, "com-outside-geometry"):
         x, y, z = a.com
@@ -519,9 +513,17 @@ def com_outside_geometry(robot):
         width = (f"{a.com_distance / a.com_thickness:.0%} of the body's "
                  f"{_g(a.com_thickness)} m width in that direction" if a.com_thickness > 0
                  else "the body is flat in that direction")
+        edits, note = (), ""
+        origin = _origin_loc(robot, a.link)
+        if a.solid is not None and origin is not None:  # the COM put at the centroid
+            from urdftool.edits import number
+
+            edits, note = value_edits(robot, origin, ("origin",),
+                                      {"xyz": " ".join(map(number, a.solid.centroid))})
         yield Finding(f"link '{a.link.name}': centre of mass ({x:g}, {y:g}, {z:g}) lies "
                       f"{_g(a.com_distance)} m outside the convex hull of its visual and "
-                      f"collision geometry ({width})", loc, hint=_centroid_hint(a))
+                      f"collision geometry ({width})", loc, hint=_centroid_hint(a) + note,
+                      edits=edits)
 
 
 @rule("inertia.geometry-mismatch", "info",
