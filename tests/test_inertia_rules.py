@@ -488,3 +488,23 @@ def test_odd_numbers_never_break_the_rules(tmp_path):
         assert run_urdftool("inertia", path, "--format", "json").code in (0, 1)
 
     check()
+
+
+def test_massless_subtree_is_one_finding_at_its_top(write):
+    # a finger of three massless phalanges is one finding at the first, counting the others; a
+    # lone massless link is its own; below a massless link on a fixed joint, the first moving
+    # one is the top
+    box = '<box size="0.1 0.1 0.1"/>'
+    zero = inertia(0, 0, 0)
+    text = robot(link("base", 1.0, inertia(1e-3, 1e-3, 1e-3), box),
+                 link("p1", 0.0, zero), link("p2", 0.0, zero), link("p3", 0.0, zero),
+                 link("lone", 0.0, zero), link("mount", 0.0, zero), link("tip", 0.0, zero),
+                 joint("j1", "base", "p1"), joint("j2", "p1", "p2"), joint("j3", "p2", "p3"),
+                 joint("j4", "base", "lone"), joint("j5", "base", "mount", "fixed"),
+                 joint("j6", "mount", "tip"))
+    ds = [d for d in findings(write(text), ("inertia.massless-moving-link",))]
+    messages = sorted(d.message for d in ds)
+    assert len(messages) == 3, messages
+    assert messages[0].startswith("link 'lone' moves") and "nor anything beyond it" in messages[0]
+    assert messages[1].startswith("link 'p1' moves") and "the 2 moving links beyond" in messages[1]
+    assert messages[2].startswith("link 'tip' moves") and "nor anything beyond it" in messages[2]

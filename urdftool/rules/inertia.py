@@ -275,6 +275,7 @@ def massless_moving_link(robot):
     # an SDF is read by Gazebo as SDF, not through its URDF reader; the massless links its
     # conversion adds (ball, universal, screw joints) are sdf.unsupported-joint's to report
     gazebo = _targets_gazebo(robot) and robot.source.kind != "sdf"
+    massless_tops = _massless_tops(robot, bodies)
     for link in robot.links:
         joint = robot.parent_joint(link.name) if link.name is not None else None
         if joint is None or not joint.moving:
@@ -286,8 +287,13 @@ def massless_moving_link(robot):
                           hint="add an <inertial> with the link's mass and inertia "
                                "(`urdftool inertia FILE --density 1000` suggests one)")
         elif link.inertial.mass == 0 and bodies.subtree_mass(link.name) == 0:
-            yield Finding(f"{moves} but neither it nor anything beyond it has mass: the "
-                          "joint moves nothing and its equation of motion is singular",
+            if massless_tops[link.name] != link.name:
+                continue  # within the massless subtree of a link reported above it
+            beyond = sum(top == link.name for top in massless_tops.values()) - 1
+            what = f"the {beyond} moving link{'s' if beyond > 1 else ''} beyond it have" \
+                if beyond else "anything beyond it has"
+            yield Finding(f"{moves} but neither it nor {what} mass: the joint moves nothing "
+                          "and its equation of motion is singular",
                           _mass_loc(link), hint="give the link its mass and inertia")
         elif link.inertial.mass == 0 and gazebo:
             yield Finding(f"{moves} with mass 0 in a description for Gazebo: Gazebo's URDF "
@@ -295,6 +301,35 @@ def massless_moving_link(robot):
                           f"({bodies.subtree_mass(link.name):g} kg)", _mass_loc(link),
                           hint="give the link a small mass and inertia (a few grams and "
                                "1e-6 kg·m² keep the chain)")
+
+
+def _massless_tops(robot, bodies) -> dict[str, str | None]:
+    """For each link moved by a joint, with mass 0 and nothing of mass beyond it: the highest
+    such link above it through links without mass (itself when there is none), so that a
+    massless finger is one finding, not one per phalanx. Iterative, each link walked once."""
+    def candidate(name) -> bool:
+        link, joint = robot.link(name), robot.parent_joint(name)
+        return (joint is not None and joint.moving and link is not None
+                and link.inertial is not None and link.inertial.mass == 0
+                and bodies.subtree_mass(name) == 0)
+
+    tops: dict[str, str | None] = {}
+    for link in robot.links:
+        if link.name is None or link.name in tops:
+            continue
+        path, name, top = [], link.name, None
+        while name is not None and name not in tops and name not in path:
+            path.append(name)
+            joint = robot.parent_joint(name)
+            name = joint.parent if joint is not None else None
+            if name is not None and bodies.subtree_mass(name) != 0:
+                name = None  # the massless subtree ends here
+        top = tops.get(name) if name is not None else None
+        for name in reversed(path):  # from the highest down
+            if top is None and candidate(name):
+                top = name
+            tops[name] = top if candidate(name) or top is not None else None
+    return {name: top for name, top in tops.items() if candidate(name)}
 
 
 @rule("inertia.not-positive-definite", "error",
