@@ -322,3 +322,27 @@ def test_a_link_typo_is_not_fixed_into_a_loop_or_a_second_parent(write):
     path = write('<robot name="r">\n' + links + joints + "</robot>\n")
     result = run_urdftool("check", "--diff", "--unsafe-fixes", path)
     assert result.code == 0 and result.out == ""
+
+
+def test_derived_tensor_is_written_in_the_inertial_frame_as_rotated(write):
+    """A wheel whose inertial and collision share a rotated frame (the cylinder's axis is the
+    frame's z): the fix writes the closed-form cylinder moments in that frame,
+    m(3r^2 + h^2)/12 across and m r^2/2 along the axis, not the link frame's."""
+    half_pi = "1.5707963267948966"
+    path = write('<robot name="r"><link name="base"/>\n'
+                 '  <link name="wheel"><inertial><mass value="0.2"/>\n'
+                 f'    <origin rpy="0 {half_pi} {half_pi}" xyz="0 0 0"/>\n'
+                 '    <inertia ixx="0.5" ixy="0" ixz="0" iyy="0.0005" iyz="0" izz="0.001"/>\n'
+                 f'  </inertial><collision><origin rpy="0 {half_pi} {half_pi}"/>\n'
+                 '    <geometry><cylinder radius="0.1" length="0.04"/></geometry></collision>\n'
+                 '  </link>\n  <joint name="j" type="continuous"><parent link="base"/>'
+                 '<child link="wheel"/><axis xyz="0 1 0"/></joint>\n</robot>\n')
+    result = fix_file(path, CheckOptions(), unsafe=True)
+    line = result.texts[str(path)].splitlines()[3]
+    values = dict(part.split("=") for part in line.strip("<>/ ").split()[1:])
+    values = {k: float(v.strip('"')) for k, v in values.items()}
+    across, along = 0.2 * (3 * 0.1**2 + 0.04**2) / 12, 0.2 * 0.1**2 / 2
+    assert values["ixx"] == pytest.approx(across, rel=1e-5)
+    assert values["iyy"] == pytest.approx(across, rel=1e-5)
+    assert values["izz"] == pytest.approx(along, rel=1e-5)
+    assert values["ixy"] == values["ixz"] == values["iyz"] == 0

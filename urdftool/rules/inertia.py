@@ -93,10 +93,22 @@ def _derived_edits(robot, a):
     if a.derived is not None:
         return _tensor_edits(robot, a, {name: f"{a.derived[i][j]:.6g}"
                                         for name, (i, j) in _COMPONENTS.items()})
-    block = analysis.derived_inertial(a)  # in the link frame: the inertial's when not rotated
-    if block is None or a.link.inertial.origin.rpy != (0.0, 0.0, 0.0):
+    block = analysis.derived_inertial(a)  # in the link frame
+    if block is None:
         return (), ""
-    return _tensor_edits(robot, a, {name: f"{block[name]:.6g}" for name in _COMPONENTS})
+    tensor = [[0.0] * 3 for _ in range(3)]
+    for name, (i, j) in _COMPONENTS.items():
+        tensor[i][j] = tensor[j][i] = block[name]
+    rpy = a.link.inertial.origin.rpy
+    if rpy != (0.0, 0.0, 0.0):  # written in the inertial's rotated frame: R^T I R
+        from urdftool.physics.inertia import rpy_matrix
+
+        r = rpy_matrix(rpy)
+        tensor = [[sum(r[k][i] * tensor[k][m] * r[m][j] for k in range(3) for m in range(3))
+                   for j in range(3)] for i in range(3)]
+    scale = max(abs(tensor[i][i]) for i in range(3))  # rounding noise of the rotation: 0
+    return _tensor_edits(robot, a, {name: f"{tensor[i][j] if abs(tensor[i][j]) > 1e-12 * scale else 0:.6g}"
+                                    for name, (i, j) in _COMPONENTS.items()})
 
 
 def _permuted_edits(robot, a):

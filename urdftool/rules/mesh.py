@@ -117,18 +117,16 @@ def not_found(robot):
                           f"at {info.path}", _loc(info), hint=hint, edits=edits)
 
 
-MESH_SUFFIXES = (".stl", ".dae", ".obj", ".ply", ".off", ".glb", ".gltf", ".3ds", ".mesh")
-
-
 def _twin(path):
     """The one mesh file beside a missing ``path`` that its name is a slip of: the same name in
     another case (``base.STL`` for ``base.stl``), else the one close name (``did_you_mean``);
     None when there is no such file or several."""
+    from urdftool.physics.meshes import LOADABLE
     from urdftool.rules import did_you_mean
 
     try:
         entries = [p.name for _, p in zip(range(2000), path.parent.iterdir())
-                   if p.suffix.lower() in MESH_SUFFIXES and is_file(p)]
+                   if p.suffix.lower() in LOADABLE and is_file(p)]
     except OSError:
         return None
     same = [n for n in entries if n.lower() == path.name.lower()]

@@ -17,7 +17,6 @@ from pathlib import Path
 from urdftool.errors import ToolError
 from urdftool.sim import CHECKS, CheckResult, ModelResult, SimOptions
 
-
 # what a model costs a worker (PyBullet's load and 240 steps; pybullet_data and
 # example-robot-data on one 2-core machine: 30 to 180 ms CPU, ~1.3 us per byte of the file):
 # a handful of models is simulated by one worker, the pool grows with the work (issue 15)
