@@ -111,4 +111,5 @@ def _own_mesh_cache(monkeypatch, tmp_path_factory):
     with the cache on (``--no-cache`` in one test does not leak into the next)."""
     monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path_factory.mktemp("urdftool-cache")))
     monkeypatch.setattr("urdftool.cache.ENABLED", True)
+    monkeypatch.setattr("urdftool.cache.WRITABLE", True)
 # -- end mesh cache -------------------------------------------------------------------------

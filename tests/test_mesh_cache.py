@@ -281,3 +281,19 @@ def test_concurrent_writers_leave_whole_entries(tmp_path):
         assert writer.exitcode == 0
     assert seen > 0
     assert [p.name for p in entries()] == [cache._entry("mesh", key).name]  # no temp files left
+
+
+def test_untrusted_run_writes_no_cache_unless_a_directory_is_named(monkeypatch, tmp_path):
+    # checking a stranger's files writes nothing (CI=true is untrusted): the cache under the
+    # home directory is read but not written; naming $URDFTOOL_CACHE_DIR opts in
+    robot = box_robot(tmp_path)
+    monkeypatch.delenv("URDFTOOL_CACHE_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    cold, parsed = check_json("--untrusted", robot)
+    assert parsed == 1 and not (tmp_path / "xdg").exists()
+    assert check_json("--trusted", robot) == (cold, 1)
+    assert len(entries()) == 1  # a trusted run writes it ...
+    assert check_json("--untrusted", robot) == (cold, 0)  # ... and an untrusted one reads it
+    monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path / "named"))
+    check_json("--untrusted", robot)
+    assert len(entries()) == 1 and entries()[0].is_relative_to(tmp_path / "named")

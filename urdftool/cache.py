@@ -15,7 +15,8 @@ Writes are atomic (a temporary file in the same directory, then ``os.replace``):
 writers (a process pool over files) and readers only ever see whole entries, the last writer
 wins. Any failure to read or write (read-only home, a corrupt or truncated entry, a full disk)
 makes the caller compute the value again: the cache can only save time. ``ENABLED`` is turned
-off by ``--no-cache`` (nothing read, nothing written).
+off by ``--no-cache`` (nothing read, nothing written); ``WRITABLE`` by an untrusted run
+without ``$URDFTOOL_CACHE_DIR`` (read, never written).
 """
 
 from __future__ import annotations
@@ -31,6 +32,10 @@ from urdftool import __version__
 FORMAT = 1  # bump when an entry's layout or the way its data is derived changes (urdftool's
 # version does not change between commits)
 ENABLED = True
+# An untrusted run (``--untrusted``, or under CI) reads the cache but writes nothing, unless
+# ``$URDFTOOL_CACHE_DIR`` names a directory for it: checking a stranger's files writes no file
+# the user did not ask for (``urdftool.cli.load_options`` sets it).
+WRITABLE = True
 _MAX_HEADER = 1 << 16
 
 
@@ -91,6 +96,8 @@ def read(kind: str, key: dict):
 def write(kind: str, key: dict, header: dict, values) -> None:
     """Store ``header`` (JSON-able) and ``values`` (floats: a flat sequence, or a numpy array of
     any shape) for ``key``; any failure is silently ignored."""
+    if not WRITABLE:
+        return
     import tempfile  # here, not at the top: it pulls in shutil, bz2, lzma, random (start-up)
 
     temp = None

@@ -156,6 +156,11 @@ def load_options(packages: tuple[str, ...], xacro_args: dict[str, str]):
     given = ctx.meta.get(_UNTRUSTED_KEY, {}) if ctx is not None else {}
     untrusted = given.get("untrusted")
     options.untrusted = untrusted_default() if untrusted is None else untrusted
+    cache = sys.modules.get("urdftool.cache")
+    if cache is not None or options.untrusted:
+        from urdftool import cache
+        # untrusted: no file written unless a cache directory is named for it
+        cache.WRITABLE = not options.untrusted or bool(os.environ.get("URDFTOOL_CACHE_DIR"))
     meshes = sys.modules.get("urdftool.physics.meshes")
     if not options.untrusted and meshes is not None:  # a trusted run after an untrusted one
         meshes.PARSER = None  # (in one process: tests) parses its meshes itself
