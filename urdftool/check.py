@@ -93,7 +93,40 @@ def check_once(path: Path | str, options: CheckOptions, load_options=None):
             findings = [Finding(f"internal error in rule {rule.id}: {type(exc).__name__}: {exc}",
                                 None, severity="warning")]
         diagnostics.extend(_diagnostic(rule, severity, f, source.path) for f in findings)
+    if any(rule in REFUSING_RULES for rule, _ in source.problems):
+        diagnostics = _without_refused(diagnostics, source)
     return source, robot, diagnostics
+
+
+REFUSING_RULES = ("xacro.unsafe-expression", "xacro.limit-exceeded")
+
+
+def _without_refused(diagnostics: list[Diagnostic], source) -> list[Diagnostic]:
+    """A refused expression's value is a placeholder (``xacro_eval.REFUSED_TEXT``) so that
+    the rest of the file is expanded and checked. Findings that depend on it would be false
+    alarms: those that quote it, and those located at an element that holds it, inside one,
+    or around one (a link whose origin was refused), are dropped; the refusal itself is the
+    finding."""
+    from urdftool.xacro_eval import REFUSED_TEXT
+
+    marked = set()
+    if source.root is not None:
+        for element in source.root.iter():
+            if isinstance(element.tag, str) and (
+                    REFUSED_TEXT in (element.text or "")
+                    or any(REFUSED_TEXT in value for value in element.attrib.values())):
+                marked.add(source.xpath(element))
+    if not marked:
+        return diagnostics
+
+    def depends(d: Diagnostic) -> bool:
+        if REFUSED_TEXT in d.message:
+            return True
+        where = d.element
+        return bool(where) and any(where == m or m.startswith(where + "/")
+                                   or where.startswith(m + "/") for m in marked)
+
+    return [d for d in diagnostics if d.rule.startswith("xacro.") or not depends(d)]
 
 
 def overlay_options(load_options: LoadOptions, texts: dict[str, str]) -> LoadOptions:

@@ -37,6 +37,7 @@ MAX_STR_BITS = 14_000  # int -> decimal str (Python's own default limit is 4300 
 MAX_WIDTH = 10_000  # format widths and precisions
 MAX_DEPTH = 100  # nesting of data
 MAX_NODES = 20_000  # nodes of one expression
+MAX_YAML_CHARS = 2 << 20  # a YAML file read by xacro.load_yaml
 
 
 class UnsafeExpression(Exception):
@@ -50,6 +51,28 @@ class UnsafeExpression(Exception):
 
 class LimitExceeded(Exception):
     """Expansion went past a time, size or recursion limit."""
+
+
+class Deadline(LimitExceeded):
+    """Expansion ran out of time: nothing after it can be evaluated."""
+
+
+REFUSED_TEXT = "urdftool-refused-expression"
+
+
+class Refused(str):
+    """The value of an expression urdftool refused (unsafe, or past a size limit): the
+    placeholder text, so that expansion goes on; an expression that reads it is refused too,
+    silently (``DependsOnRefused``): its cause is reported once, where it was written."""
+
+    __slots__ = ()
+
+    def __new__(cls):
+        return super().__new__(cls, REFUSED_TEXT)
+
+
+class DependsOnRefused(Exception):
+    """An expression read the value of a refused one."""
 
 
 def _unsafe(reason: str) -> UnsafeExpression:
@@ -431,7 +454,7 @@ class Interpreter:
         self._ticks += 1
         if self._ticks & 255 == 0 and self.deadline is not None \
                 and time.monotonic() > self.deadline:
-            raise LimitExceeded("xacro expansion took longer than the time limit")
+            raise Deadline("xacro expansion took longer than the time limit")
 
     def made(self, value):
         """Account for a value an operation built; refuse it when too large."""
@@ -464,6 +487,8 @@ class Interpreter:
         """A value from outside the interpreter (xacro's tables): closed types only."""
         if type(value) in self._values:
             return value
+        if type(value) is Refused:
+            raise DependsOnRefused()
         mine = self._by_id.get(id(value))
         if mine is not None:
             if type(mine) is _Refused:
@@ -920,6 +945,9 @@ class Interpreter:
         xacro = self._xacro
         path = xacro.abs_filename_spec(filename)
         text = self.read_text(path)
+        if len(text) > MAX_YAML_CHARS:  # YAML's scanner is pure Python: ~1 s per MB
+            raise LimitExceeded(f"{filename}: a YAML file of more than {MAX_YAML_CHARS >> 20} "
+                                "MB")
         xacro.filestack.append(path)
         try:
             import yaml

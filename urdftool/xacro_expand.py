@@ -41,6 +41,7 @@ from urdftool.source import (
     read_text,
     shown_path,
 )
+from urdftool.xacro_eval import REFUSED_TEXT
 from urdftool.xmlrepair import secure_parser
 
 
@@ -118,7 +119,7 @@ class OutsidePackage(Exception):
 
 
 class _Reported(Exception):
-    """Expansion stopped on problems already recorded (unsafe expressions found by the scan)."""
+    """Expansion stopped on problems already recorded (a condition on a refused value)."""
 
 
 @dataclass
@@ -127,6 +128,7 @@ class _Policy:
     roots: list[Path] | None = None  # files only under these (None: anywhere)
     allow_env: frozenset | None = None  # $(env)/$(optenv) see only these (None: all)
     hidden: list = field(default_factory=list)  # $(optenv NAME) that took its default for it
+    refused: set = field(default_factory=set)  # (expression, reason) already reported
 
     def check_path(self, filename: str) -> None:
         if self.roots is None:
@@ -152,24 +154,42 @@ def _cause(exc: BaseException, kinds) -> BaseException | None:
     return None
 
 
-def _scan_expressions(root, text: str, shown: str, source: Source) -> bool:
-    """Record every literal expression of the file that the validator rejects."""
+UNSAFE_HINT = ("xacro expressions may use numbers, strings, properties, operators, math "
+               "functions and YAML data; nothing that reaches Python internals")
+
+
+def _scan_expressions(root, shown: str, source: Source, policy: _Policy) -> None:
+    """Record every literal expression of the file that the validator rejects, where it is
+    written (also those in macros never called and branches never taken). Expansion goes on:
+    each is refused again, silently, if it is evaluated (its value is the placeholder)."""
     from urdftool.xacro_eval import scan
 
-    found = False
     for element in root.iter():
         if not isinstance(element.tag, str):
             continue
         values = [*element.attrib.values(), element.text or "", element.tail or ""]
         for value in values:
             for unsafe in scan(value):
-                line = element.sourceline
-                source.add("xacro.unsafe-expression", Finding(
-                    f"{unsafe}; urdftool does not evaluate it", Loc(shown, line, None),
-                    hint="xacro expressions may use numbers, strings, properties, operators, "
-                         "math functions and YAML data; nothing that reaches Python internals"))
-                found = True
-    return found
+                _refuse(source, policy, "xacro.unsafe-expression", unsafe.expression,
+                        unsafe.reason, Loc(shown, element.sourceline, None))
+
+
+def _refuse(source: Source, policy: _Policy, rule: str, expression: str, reason: str,
+            loc: Loc, stops: bool = False) -> None:
+    """One located finding per refused expression (and reason), however often it is met."""
+    key = (expression.strip(), reason)
+    if key in policy.refused:
+        return
+    policy.refused.add(key)
+    then = ("expansion stops here (which branch the file meant is unknown)" if stops else
+            f"its value is '{REFUSED_TEXT}' and expansion goes on")
+    if rule == "xacro.unsafe-expression":
+        source.add(rule, Finding(f"unsafe expression '{expression.strip()}': {reason}; "
+                                 f"urdftool does not evaluate it: {then}", loc,
+                                 hint=UNSAFE_HINT))
+    else:
+        source.add(rule, Finding(f"xacro: expression '{expression.strip()}': {reason}; {then}",
+                                 loc))
 
 
 @contextlib.contextmanager
@@ -178,9 +198,17 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     import xacro
     from xacro import substitution_args
 
-    from urdftool.xacro_eval import Interpreter, LimitExceeded, UnsafeExpression
+    from urdftool.xacro_eval import (
+        Deadline,
+        DependsOnRefused,
+        Interpreter,
+        LimitExceeded,
+        Refused,
+        UnsafeExpression,
+    )
 
     policy = policy or _Policy()
+    where: list[str] = []  # the LOC_ATTR of the elements xacro is evaluating, innermost last
 
     def read_yaml(filename: str) -> str:
         """xacro.load_yaml's file: inside the package roots, a regular file, bounded."""
@@ -195,7 +223,24 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     node_list = xml.dom.minidom.NodeList
     saved = (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
              xacro.process_include, xacro.safe_eval, substitution_args._eval,
-             substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text)
+             substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text,
+             xacro.get_boolean_value)
+
+    def current_loc() -> Loc:
+        return _parse_loc(where[-1], files) if where else Loc(source.path, None, None)
+
+    def refused(rule: str, expression: str, reason: str) -> Refused:
+        _refuse(source, policy, rule, expression, reason, current_loc())
+        return Refused()
+
+    def condition_loc(condition: str) -> Loc:
+        """The line of a condition (xacro gives get_boolean_value its text, not its node)."""
+        shown = files.paths[int(where[-1].split(":")[0])] if where else source.path
+        text = source.texts.get(shown, "")
+        index = text.find(f'"{condition}"')
+        if index < 0:
+            return current_loc()
+        return Loc(shown, text.count("\n", 0, index) + 1, None)
 
     def display_path(filename: str) -> str:
         if Path(filename).resolve() == top.resolve():
@@ -237,8 +282,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             line = text.count("\n", 0, max(text.find("<!DOCTYPE"), 0)) + 1
             refused.urdftool_loc = f"{files.index(shown)}:{line}:0"
             raise refused
-        if _scan_expressions(root, text, shown, source):
-            raise _Reported()
+        _scan_expressions(root, shown, source, policy)
         _tag_elements(root, files.index(shown), text)
         # Only the element tree goes to minidom: no DOCTYPE, so no entity declarations; an
         # entity reference left unexpanded by the secure parser is refused here.
@@ -255,7 +299,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
 
     def handle_macro_call(node, macros, symbols):
         if policy.deadline is not None and time.monotonic() > policy.deadline:
-            raise LimitExceeded("xacro expansion took longer than the time limit")
+            raise Deadline("xacro expansion took longer than the time limit")
         if not node.tagName.startswith("xacro:") or node.tagName == "xacro:call":
             return saved[1](node, macros, symbols)
         call = node.getAttribute(LOC_ATTR)
@@ -284,13 +328,26 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         return expanded
 
     def eval_all(node, macros, symbols):
+        tagged = node.nodeType == node.ELEMENT_NODE and node.getAttribute(LOC_ATTR)
+        if tagged:
+            where.append(tagged)
         try:
             return saved[2](node, macros, symbols)
         except (xacro.XacroException, UnsafeExpression, LimitExceeded) as exc:
-            if not hasattr(exc, "urdftool_loc") and node.nodeType == node.ELEMENT_NODE \
-                    and node.getAttribute(LOC_ATTR):
-                exc.urdftool_loc = node.getAttribute(LOC_ATTR)
+            if not hasattr(exc, "urdftool_loc") and tagged:
+                exc.urdftool_loc = tagged
             raise
+        finally:
+            if tagged:
+                where.pop()
+
+    def get_boolean_value(value, condition):
+        if isinstance(value, Refused) or (isinstance(value, str) and REFUSED_TEXT in value):
+            # which branch the file meant is unknown: expanding either could raise false alarms
+            _refuse(source, policy, "xacro.unsafe-expression", condition,
+                    "a condition on a refused expression", condition_loc(condition), stops=True)
+            raise _Reported()
+        return saved[10](value, condition)
 
     def process_include(elt, macros, symbols, func):
         """A missing include is reported and skipped, so the rest is still expanded."""
@@ -319,7 +376,18 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         return str(directory)
 
     def safe_eval(expr, globals, locals=None):
-        return interpreter.evaluate(expr, globals)
+        """An expression by the interpreter; a refused one is a finding and the placeholder
+        (the rest of the file is still expanded), except past the deadline."""
+        try:
+            return interpreter.evaluate(expr, globals)
+        except DependsOnRefused:
+            return Refused()
+        except UnsafeExpression as exc:
+            return refused("xacro.unsafe-expression", exc.expression, exc.reason)
+        except Deadline:
+            raise
+        except LimitExceeded as exc:
+            return refused("xacro.limit-exceeded", expr, str(exc))
 
     def eval_substitution(s, context):
         """xacro's ``$(eval ...)``, by the interpreter."""
@@ -334,14 +402,20 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             return substitution_args._eval_dirname(context["filename"])
 
         if s.find("__") >= 0:
-            raise substitution_args.SubstitutionException(
-                "$(eval ...) may not contain double underscore expressions")
+            return refused("xacro.unsafe-expression", s,
+                           "$(eval ...) may not contain double underscore expressions")
         functions = {"arg": arg, "dirname": dirname, "env": eval_env, "optenv": eval_optenv,
                      "find": find}
         try:
             value = interpreter.evaluate_substitution(s, context["arg"], functions)
+        except DependsOnRefused:
+            return Refused()
         except UnsafeExpression as exc:
-            raise UnsafeExpression(f"$(eval {s})", exc.reason) from None
+            return refused("xacro.unsafe-expression", s, exc.reason)
+        except Deadline:
+            raise
+        except LimitExceeded as exc:
+            return refused("xacro.limit-exceeded", s, str(exc))
         return interpreter.to_str(value)
 
     def eval_env(name):
@@ -373,13 +447,15 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     if getattr(options, "lenient", False):
         xacro.eval_text = lenient_eval_text
     xml.dom.minidom.NodeList = _ChildList
+    xacro.get_boolean_value = get_boolean_value
     try:
         yield xacro
     finally:
         xml.dom.minidom.NodeList = node_list
         (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
          xacro.process_include, xacro.safe_eval, substitution_args._eval,
-         substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text) = saved
+         substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text,
+         xacro.get_boolean_value) = saved
 
 
 def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Policy) -> Expansion:

@@ -172,6 +172,9 @@ def load_options(packages: tuple[str, ...], xacro_args: dict[str, str]):
     return options
 
 
+FAILED: list[str] = []  # files whose reading was refused in part (load_robot): exit 1
+
+
 def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | None = None):
     """Load one file into a Robot for the commands that work on a model (not ``check``).
     A file too broken to give a robot is an error (exit 2) located at the first problem."""
@@ -179,9 +182,24 @@ def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | Non
     from urdftool.model import build_robot
     from urdftool.source import load
 
+    from urdftool.check import REFUSING_RULES
+
     source = load(path, load_options(packages, xacro_args or {}))
     robot = build_robot(source)
+    # a refused expression or an exceeded limit: said, located, and the run fails (exit 1);
+    # the robot is still shown with the expression's placeholder value where it can be built
+    refusals = [finding for rule, finding in source.problems if rule in REFUSING_RULES]
+    for rule, finding in source.problems:
+        if rule in REFUSING_RULES:
+            loc = finding.loc
+            print_finding(loc.path if loc else path, loc.line if loc else None,
+                          loc.column if loc else None, "error", rule, finding.message,
+                          finding.hint, err=True)
+    if refusals:
+        FAILED.append(path)
     if source.root is None or source.root.tag != "robot" or not robot.links:
+        if refusals:
+            raise click.exceptions.Exit(1)
         advice = f"cannot read a robot; run 'urdftool check {path}'"
         if not source.problems:
             raise ToolError(diagnostic_line(path, None, None, "error", None,
@@ -328,8 +346,11 @@ def main(argv: list[str] | None = None) -> None:
     # generation collected every 700 allocations walks them again and again (a third of `tree`
     # on a 10k-link robot, growing with the size); every 20000 keeps cycles collected (issue 15)
     gc.set_threshold(max(gc.get_threshold()[0], 20000), *gc.get_threshold()[1:])
+    FAILED.clear()
     try:
         code = cli.main(args=argv, prog_name="urdftool", standalone_mode=False)
+        if FAILED and not code:
+            code = 1
     except click.exceptions.Exit as exc:
         sys.exit(exc.exit_code)
     except click.ClickException as exc:
@@ -344,7 +365,7 @@ def main(argv: list[str] | None = None) -> None:
         from urdftool.display import clean
 
         echo(f"urdftool: {clean(exc)}", err=True)
-        sys.exit(2)
+        sys.exit(1 if FAILED else 2)  # after a refusal: its consequence, the finding is said
     except BrokenPipeError:
         sys.exit(1)
     except OSError as exc:  # the file system refused (a name too long, a permission...)
