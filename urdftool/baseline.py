@@ -16,6 +16,7 @@ from collections import Counter
 from pathlib import Path
 
 from urdftool.errors import ToolError
+from urdftool.files import read_regular
 from urdftool.report import Diagnostic, Report, sites_text
 
 FORMAT = 1
@@ -51,7 +52,7 @@ def write_baseline(report: Report, path: Path) -> None:
 
 def read_baseline(path: Path) -> Counter:
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = json.loads(read_regular(path).decode("utf-8"))
         records = data["findings"]
         if data.get("baseline") != FORMAT or not isinstance(records, list):
             raise ValueError("not a urdftool baseline")

@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from urdftool.errors import ToolError
+from urdftool.files import read_regular
 
 # compiled on first use (re caches it): most files have no suppression comment
 _SUPPRESS = r"<!--\s*urdftool:\s*ignore\s+([^>]*?)\s*-->"
@@ -90,7 +91,7 @@ def _read_toml(path: Path) -> dict:
     except ImportError:  # Python 3.10
         import tomli as tomllib  # type: ignore[no-redef]
     try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
+        return tomllib.loads(read_regular(path, 16 << 20).decode("utf-8"))
     except (OSError, ValueError, UnicodeDecodeError) as exc:
         raise ToolError(f"{path}: cannot read configuration: {exc}") from None
 

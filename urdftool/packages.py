@@ -13,6 +13,8 @@ import re
 import stat
 from pathlib import Path
 
+from urdftool.files import read_regular_text
+
 _NAME_RE = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 
 
@@ -62,7 +64,7 @@ def _resolve(key: str) -> str:
 
 def _package_name(package_xml: Path) -> str | None:
     try:
-        match = _NAME_RE.search(package_xml.read_text(encoding="utf-8", errors="replace"))
+        match = _NAME_RE.search(read_regular_text(package_xml, 1 << 20))
     except OSError:
         return None
     return match.group(1) if match else None

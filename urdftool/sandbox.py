@@ -33,8 +33,11 @@ import sys
 import time
 from pathlib import Path
 
+from urdftool.source import DEFAULT_TIMEOUT
+
 IN_CHILD = False  # set by urdftool.sandbox_child: load() there does the work itself
 GRACE_SECONDS = 1.0  # the child stops itself at the deadline; it is killed this much later
+MESH_GRACE_SECONDS = 0.1  # a mesh parser (C code) never stops itself: killed at the deadline
 START_SECONDS = 30.0  # a fresh interpreter importing lxml and xacro, on a loaded machine
 CHILD_CPU_SECONDS = 120  # the child's whole CPU budget (it is replaced at half of it)
 MAX_ANSWER_BYTES = 256 << 20
@@ -165,6 +168,7 @@ class Child:
         self.settings = (int(memory_mb), tuple(allow_env))
         self.owner = os.getpid()
         self.buffer = b""
+        self.requests = 0
         package_parent = str(Path(__file__).resolve().parent.parent)
         started = time.monotonic()
         try:
@@ -200,10 +204,12 @@ class Child:
         except (OSError, ValueError, IndexError):
             return 0.0
 
-    def ask(self, request: dict, timeout: float | None, what: str) -> dict:
+    def ask(self, request: dict, timeout: float | None, what: str,
+            grace: float = GRACE_SECONDS) -> dict:
         """Send ``request``; its answer, or LimitExceeded/SandboxFailure (the child is then
         gone: the next request starts another)."""
-        answer = self._exchange(request, timeout, what)
+        self.requests += 1
+        answer = self._exchange(request, timeout, what, grace)
         if "limit" in answer:
             from urdftool.xacro_eval import LimitExceeded
 
@@ -216,7 +222,8 @@ class Child:
             raise SandboxFailure(str(answer["error"]))
         return answer.get("ok")
 
-    def _exchange(self, request: dict, timeout: float | None, what: str) -> dict:
+    def _exchange(self, request: dict, timeout: float | None, what: str,
+                  grace: float = GRACE_SECONDS) -> dict:
         from urdftool.xacro_eval import LimitExceeded
 
         try:
@@ -225,7 +232,7 @@ class Child:
         except OSError:
             self.close()
             raise SandboxFailure(f"the sandboxed reader is gone ({what})") from None
-        deadline = time.monotonic() + timeout + GRACE_SECONDS if timeout else None
+        deadline = time.monotonic() + timeout + grace if timeout else None
         out = self.process.stdout.fileno()
         while b"\n" not in self.buffer:
             remaining = None if deadline is None else deadline - time.monotonic()
@@ -411,10 +418,21 @@ def parse_mesh(path: Path, need_volume: bool):
     roots = _RUN.get("roots") or [Path(path).resolve().parent]
     if not inside(path, roots):
         roots = [*roots, Path(path).resolve().parent]
+    request = {"op": "mesh", "path": os.fspath(path), "need_volume": need_volume}
+    what = f"reading mesh {Path(path).name}"
     try:
-        answer = _child(roots).ask({"op": "mesh", "path": os.fspath(path),
-                                    "need_volume": need_volume}, _RUN.get("timeout", 5.0),
-                                   f"reading mesh {Path(path).name}")
+        child = _child(roots)
+        try:
+            answer = child.ask(request, _RUN.get("timeout", DEFAULT_TIMEOUT), what,
+                               grace=MESH_GRACE_SECONDS)
+        except LimitExceeded as exc:
+            # big meshes read before leave the reader's address space fragmented: a mesh
+            # that fits is asked once more of a fresh reader before it is said unreadable
+            if child.requests == 1 or "out of memory" not in str(exc):
+                raise
+            child.close()
+            answer = _child(roots).ask(request, _RUN.get("timeout", DEFAULT_TIMEOUT), what,
+                                       grace=MESH_GRACE_SECONDS)
         header, hull = answer["header"], answer["hull"]
         if not isinstance(header, dict) or not isinstance(hull, list) \
                 or not all(type(x) is float for x in hull):

@@ -226,7 +226,7 @@ def _convert(request: dict) -> dict:
 
     from urdftool import sandbox
     from urdftool.packages import PackageResolver
-    from urdftool.sdf import ConvertOptions, LoopRefused, ModelChoiceError, convert_source
+    from urdftool.sdf import ConvertOptions, LoopRefused, ModelChoiceError, convert_guarded
     from urdftool.source import Source, read_text
 
     path = Path(request["path"])
@@ -240,7 +240,7 @@ def _convert(request: dict) -> dict:
                              cut_loops=request["cut_loops"], require_choice=True)
     refused = choice = None
     try:
-        convert_source(source, path, text, options)
+        convert_guarded(source, path, text, options)
     except ModelChoiceError as exc:
         choice = str(exc)
     except LoopRefused as exc:

@@ -19,6 +19,7 @@ from stat import S_ISDIR, S_ISREG
 from lxml import etree
 
 from urdftool.errors import ToolError
+from urdftool.files import read_regular_text
 from urdftool.model import Loc
 from urdftool.packages import PackageResolver
 from urdftool.report import Finding
@@ -34,6 +35,11 @@ _COMMENT = r"(?s)<!--.*?-->"
 _ENCODING_DECL = r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2"
 
 
+# seconds for one xacro expansion, and under --untrusted for one file or mesh the sandboxed
+# reader reads: what a hostile file may cost (a CI gate's budget per file is a few seconds)
+DEFAULT_TIMEOUT = 3.0
+
+
 class LoadOptions:
     __slots__ = ("allow_env", "lenient", "memory_mb", "overlay", "packages", "sdf_model",
                  "sdf_model_paths", "timeout", "untrusted", "xacro_args")
@@ -41,7 +47,7 @@ class LoadOptions:
     def __init__(self, packages: dict[str, str] | None = None,
                  xacro_args: dict[str, str] | None = None, sdf_model: str | None = None,
                  sdf_model_paths: list[str] | None = None, untrusted: bool = False,
-                 allow_env: tuple[str, ...] = (), timeout: float | None = 5.0,
+                 allow_env: tuple[str, ...] = (), timeout: float | None = DEFAULT_TIMEOUT,
                  memory_mb: int = 1024):
         self.packages = packages if packages is not None else {}  # -P NAME=DIR
         self.xacro_args = xacro_args if xacro_args is not None else {}  # NAME:=VALUE
@@ -269,7 +275,12 @@ def parse_text(text: str, path: str, source: Source) -> etree._Element | None:
     return root
 
 
+LONG_LINE = 4096  # a minified file's one line: no column (finding it per element is quadratic)
+
+
 def _column(line_text: str, tag: str) -> int | None:
+    if len(line_text) > LONG_LINE:
+        return None
     index = line_text.find("<" + tag)
     return index + 1 if index >= 0 else None
 
@@ -417,7 +428,7 @@ def discover(paths: list[str]) -> list[Path]:
             for candidate in in_directory:
                 if candidate.suffix == ".xacro":
                     try:
-                        head = candidate.read_text(encoding="utf-8", errors="replace")
+                        head = read_regular_text(candidate)
                     except OSError:
                         continue
                     included.update(Path(m).name for m in re.findall(_INCLUDE, head))

@@ -125,7 +125,7 @@ def untrusted_options(function):
         click.option("--timeout", "timeout", type=click.FloatRange(0.1), default=None,
                      metavar="SECONDS", expose_value=False, callback=_remember,
                      help="Time limit of one xacro expansion, and under --untrusted of "
-                          "one file or mesh read by the sandboxed reader (default 5 s)."),
+                          "one file or mesh read by the sandboxed reader (default 3 s)."),
         click.option("--allow-env", "allow_env", multiple=True, metavar="NAME",
                      expose_value=False, callback=_remember,
                      help="With --untrusted: an environment variable $(env NAME) and "
@@ -178,11 +178,10 @@ FAILED: list[str] = []  # files whose reading was refused in part (load_robot): 
 def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | None = None):
     """Load one file into a Robot for the commands that work on a model (not ``check``).
     A file too broken to give a robot is an error (exit 2) located at the first problem."""
+    from urdftool.check import REFUSING_RULES
     from urdftool.display import diagnostic_line
     from urdftool.model import build_robot
     from urdftool.source import load
-
-    from urdftool.check import REFUSING_RULES
 
     source = load(path, load_options(packages, xacro_args or {}))
     robot = build_robot(source)

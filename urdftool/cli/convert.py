@@ -46,7 +46,7 @@ def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, 
     from urdftool.output import write_output
     from urdftool.report import SEVERITIES
     from urdftool.rules import load_all
-    from urdftool.sdf import ConvertOptions, LoopRefused, ModelChoiceError, convert_source, to_text
+    from urdftool.sdf import ConvertOptions, LoopRefused, ModelChoiceError, convert_guarded, to_text
     from urdftool.source import Source, detect_kind, read_text
 
     paths, _ = split_args(inputs)
@@ -79,7 +79,7 @@ def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, 
     else:
         source = Source(str(path), "sdf", texts={str(path): text}, resolver=resolver)
         try:
-            convert_source(source, path, text, options)
+            convert_guarded(source, path, text, options)
         except ModelChoiceError as exc:
             raise ToolError(f"{path}: {exc}") from None
         except LoopRefused as exc:

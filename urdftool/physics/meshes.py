@@ -218,6 +218,11 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
     LOADS += 1
     if PARSER is not None:
         return PARSER(path, need_volume)
+    if _large(path):  # trusted too: a parse that can be stopped at --timeout and --memory-limit
+        from urdftool import sandbox
+
+        if sandbox.available() and not sandbox.IN_CHILD:
+            return sandbox.parse_mesh(path, need_volume)
     with _LibraryLog() as log:
         try:
             _check_size(path)
@@ -234,6 +239,17 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
         with warnings.catch_warnings(), np.errstate(all="ignore"):
             warnings.simplefilter("ignore")
             return _summarise(path, *triangles, need_volume)
+
+
+IN_PROCESS_BYTES = 8 << 20  # larger meshes, and archives, are parsed in the sandboxed reader
+
+
+def _large(path: Path) -> bool:
+    """Parsing this mesh may take seconds and gigabytes (8 MB of OBJ text is ~1M faces)."""
+    try:
+        return path.suffix.lower() in (".zae", ".3mf") or path.stat().st_size > IN_PROCESS_BYTES
+    except OSError:
+        return False
 
 
 def _one_line(text: str) -> str:

@@ -80,15 +80,24 @@ def load_sdf(source, path: Path, text: str, options) -> None:
         model_paths=list(getattr(options, "sdf_model_paths", None) or []),
     )
     try:
-        convert_source(source, path, text, convert_options)
+        convert_guarded(source, path, text, convert_options)
     except ModelChoiceError as exc:
         if not any(rule.startswith(("sdf.", "xml.")) and finding.severity in (None, "error")
                    for rule, finding in source.problems):
             source.add("sdf.no-model", Finding(str(exc), Loc(str(source.path), 1, 1)))
     except LoopRefused:  # pragma: no cover - check always cuts
         pass
-    except (ArithmeticError, ValueError, RecursionError) as exc:  # never a traceback in check
+
+
+def convert_guarded(source, path: Path, text: str, options: ConvertOptions):
+    """``convert_source`` that never raises on bad input beyond its two refusals: a value
+    the converter cannot take (a name with control characters, frames nested past Python's
+    recursion) is an ``sdf.bad-value`` finding and no URDF (check and convert alike)."""
+    try:
+        return convert_source(source, path, text, options)
+    except (ArithmeticError, ValueError, RecursionError) as exc:
         source.root = None
         source.add("sdf.bad-value", Finding(
             f"the model cannot be converted: {type(exc).__name__}: {exc}",
             Loc(str(source.path), 1, 1), hint="report this file to urdftool's developers"))
+        return None

@@ -22,6 +22,7 @@ from urdftool.model import Loc
 from urdftool.report import Finding
 from urdftool.sdf.schema import SPEC
 from urdftool.sdf.transforms import IDENTITY, Transform
+from urdftool.source import _column
 
 SUPPORTED = ((1, 4), (1, 5), (1, 6), (1, 7), (1, 8), (1, 9), (1, 10), (1, 11))
 OLD = ((1, 0), (1, 2), (1, 3))
@@ -148,8 +149,7 @@ class Reader:
         if lines is None:
             lines = self._lines[id(doc)] = doc.text.splitlines()
         if line and line <= len(lines) and isinstance(element.tag, str):
-            index = lines[line - 1].find("<" + element.tag)
-            column = index + 1 if index >= 0 else None
+            column = _column(lines[line - 1], element.tag)
         # Source.xpath is getpath in linear time (lxml's counts every ancestor's preceding
         # siblings: quadratic on a model of thousands of links, issue 15)
         return Loc(doc.path, line, column, self.source.xpath(element))

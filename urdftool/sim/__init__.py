@@ -59,7 +59,7 @@ class SimOptions:
     # untrusted input (see urdftool.sandbox): as LoadOptions
     untrusted: bool = False
     allow_env: tuple[str, ...] = ()
-    timeout: float | None = 5.0
+    timeout: float | None = 3.0
     memory_mb: int = 1024
     thresholds: Thresholds = field(default_factory=Thresholds)
 

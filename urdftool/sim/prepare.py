@@ -470,6 +470,28 @@ def prepare(path: str, options, from_directory: bool = False) -> Prepared:
 
 
 PYBULLET_MESH_SUFFIXES = (".obj", ".stl", ".dae")
+SIM_MESH_BYTES = 1 << 20  # a larger mesh is read by urdftool (bounded) before PyBullet sees it
+SIM_MAX_TRIANGLES = 200_000  # PyBullet takes seconds and gigabytes past this (1.2M: 20 s, 2 GB)
+
+
+def _heavy_mesh(path) -> str | None:
+    """Why PyBullet is not given this mesh file: one urdftool's bounded reader refuses (too
+    large, an archive bomb, past --timeout or the memory limit) or of more triangles than
+    PyBullet loads in a few seconds. PyBullet's own parser is bounded by nothing."""
+    from urdftool.physics import meshes
+
+    try:
+        if Path(path).stat().st_size <= SIM_MESH_BYTES:
+            return None
+    except OSError:
+        return None
+    info = meshes.load_mesh(path)
+    if info.error:
+        return f"cannot be read: {info.error}"
+    if info.faces > SIM_MAX_TRIANGLES:
+        return (f"{info.faces} triangles, more than the {SIM_MAX_TRIANGLES} urdftool lets "
+                "PyBullet load (simplify the mesh: a collision mesh needs far fewer)")
+    return None
 
 
 def _visual_meshes(robot: Robot, source, prepared: Prepared) -> str | None:
@@ -482,6 +504,10 @@ def _visual_meshes(robot: Robot, source, prepared: Prepared) -> str | None:
             resolved = _resolve(filename, source) if filename else None
             if resolved is not None:
                 prepared.mesh_paths[filename] = str(resolved)
+                refused = _heavy_mesh(resolved)
+                if refused:
+                    return (f"{_where(shape.geometry.loc)}mesh '{filename}' of link "
+                            f"'{link.name}': {refused} (not given to PyBullet)")
     for link in robot.links:
         for shape in link.visuals:
             filename = shape.geometry.filename if shape.geometry.kind == "mesh" else None
