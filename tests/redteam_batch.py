@@ -53,8 +53,12 @@ def main() -> None:
     sandbox = sys.modules.get("urdftool.sandbox")
     if sandbox is not None:
         sandbox._close_children()  # waited for: its peak is in RUSAGE_CHILDREN
-    peak = max(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
-               resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
+    # this process's own peak (VmHWM: ru_maxrss would count the pytest worker this process
+    # was forked from, which Linux keeps across exec), and its children's (the sandboxed
+    # readers and sim workers, forked from this small process)
+    with open("/proc/self/status", encoding="ascii") as status:
+        own = next(int(line.split()[1]) for line in status if line.startswith("VmHWM:"))
+    peak = max(own, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
     with open(results_path, "w", encoding="utf-8") as stream:
         json.dump({"runs": results, "peak_mb": peak / 1024}, stream)
 

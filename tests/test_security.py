@@ -322,27 +322,26 @@ def test_sandbox_memory_limit(tmp_path):
     them first.)"""
     from urdftool.sandbox import run_test_payload
 
-    # what the child itself spent (CPU seconds) and its peak memory: a loaded machine slows
-    # the wall clock of the start, not these
+    # what the child itself spent (CPU seconds): a loaded machine slows the wall clock of the
+    # start, not this. (Not its ru_maxrss: Linux keeps the forked parent's across exec.)
     payload = """
 import resource
 def used():
     usage = resource.getrusage(resource.RUSAGE_SELF)
-    return usage.ru_utime + usage.ru_stime, usage.ru_maxrss >> 10
-start, _ = used()
+    return usage.ru_utime + usage.ru_stime
+start = used()
 fits = len(bytearray(64 << 20))  # under the limit: allowed (the limit, not a failure, refuses)
 try:
     bytearray(4 << 30)
     refused = False
 except MemoryError:
     refused = True
-end, peak_mb = used()
-result = [fits, refused, end - start, peak_mb]
+end = used()
+result = [fits, refused, end - start]
 """
     answer = run_test_payload(payload, [tmp_path], memory_mb=256)
-    fits, refused, cpu_seconds, peak_mb = answer["ok"]
-    assert fits == 64 << 20 and refused
-    assert cpu_seconds < 2 and peak_mb < 256
+    fits, refused, cpu_seconds = answer["ok"]
+    assert fits == 64 << 20 and refused and cpu_seconds < 2
 
 
 @pytest.mark.parametrize("expression", [

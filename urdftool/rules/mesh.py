@@ -147,9 +147,15 @@ does not read (Ogre `.mesh`, for instance) are not checked.""",
 def unreadable(robot):
     for a, info in _mesh_shapes(robot):
         mesh = info.mesh
-        if mesh is not None and mesh.error is not None:
+        if mesh is not None and mesh.error is not None and not _timed_out(mesh):
             yield Finding(f"{_what(a, info)} mesh {info.path.name} cannot be read: "
                           f"{mesh.error}", _loc(info))
+
+
+def _timed_out(mesh) -> bool:
+    from urdftool.physics import meshes  # loaded already: this mesh was read
+
+    return meshes.timed_out(mesh)
 
 
 _MESH_RULES = "mesh.unreadable, mesh.scale and mesh.not-watertight"
@@ -179,9 +185,19 @@ its link's inertia is not compared with its geometry. Meshes that do not resolve
            '<box size="0.1 0.1 0.1"/></geometry></visual></link></robot>')
 def not_checked(robot):
     skipped: dict[str, list] = {}
+    slow = []
     for a, info in _mesh_shapes(robot):
         if info.problem in (analysis.NO_TRIMESH, analysis.UNREAD_FORMAT):
             skipped.setdefault(info.problem, []).append((a, info))
+        elif info.mesh is not None and _timed_out(info.mesh):
+            slow.append((a, info))
+    if slow:  # not known to be broken: stopped at the time limit (hostile, or a loaded machine)
+        files = list(dict.fromkeys(info.path.name for _, info in slow))
+        links = list(dict.fromkeys(str(a.link.name) for a, _ in slow))
+        yield Finding(f"{len(files)} mesh file(s) ({_names(files)}) were not read within the "
+                      f"time limit: {_MESH_RULES} did not check them and {_GEOMETRY_RULES} did "
+                      f"not run on {_names(links)}", _loc(slow[0][1]),
+                      hint="--timeout SECONDS (each mesh is given that long)")
     for problem, shapes in skipped.items():
         links = list(dict.fromkeys(str(a.link.name) for a, _ in shapes))
         files = list(dict.fromkeys(info.path.name for _, info in shapes))

@@ -423,7 +423,7 @@ source_rule(
     doc="""A macro that calls itself, macros that double at each level, a number like
     `10**10**10` or a gigantic include make xacro run for ever or exhaust memory; a CI gate must
     not hang on them. urdftool stops the expansion when it takes longer than `--timeout`
-    (default 5 s), nests macros deeper than Python's recursion limit, builds numbers or strings
+    (default 3 s), nests macros deeper than Python's recursion limit, builds numbers or strings
     beyond a sane size, reads a file over 64 MB, or (with `--untrusted`) uses more memory than
     `--memory-limit`. Nothing after the stop is checked: fix the recursion or the size.""",
     bad='<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
