@@ -16,7 +16,7 @@ def read_regular(path, limit: int = MAX_BYTES) -> bytes:
     """The bytes of a regular file of at most ``limit`` bytes; OSError (with the reason in
     ``strerror``) for anything else."""
     fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
-    with open(fd, "rb", closefd=True) as handle:
+    try:
         info = os.fstat(fd)
         if S_ISDIR(info.st_mode):
             raise IsADirectoryError(errno.EISDIR, "is a directory", str(path))
@@ -25,7 +25,11 @@ def read_regular(path, limit: int = MAX_BYTES) -> bytes:
                           str(path))
         if info.st_size > limit:
             raise OSError(errno.EFBIG, f"{info.st_size >> 20} MB, larger than the "
-                                       f"{limit >> 20} MB urdftool reads", str(path))
+                                       f"{limit >> 20} MB urdftool reads: not read", str(path))
+    except BaseException:
+        os.close(fd)
+        raise
+    with open(fd, "rb", closefd=True) as handle:
         data = handle.read(info.st_size + 1)  # (asking for `limit` would allocate it)
         if len(data) > info.st_size:  # grew since, or a size the system does not know (/proc)
             data += handle.read(limit + 1 - len(data))

@@ -10,16 +10,16 @@ from __future__ import annotations
 
 import codecs
 import contextlib
+import errno
 import io
 import os
 import re
 from pathlib import Path
-from stat import S_ISDIR, S_ISREG
 
 from lxml import etree
 
 from urdftool.errors import ToolError
-from urdftool.files import read_regular_text
+from urdftool.files import read_regular, read_regular_text
 from urdftool.model import Loc
 from urdftool.packages import PackageResolver
 from urdftool.report import Finding
@@ -184,33 +184,17 @@ MAX_FILE_BYTES = 64 << 20  # a robot description file larger than this is refuse
 
 
 def read_bytes(path: Path) -> bytes:
-    """A regular file's bytes, at most MAX_FILE_BYTES. A device, FIFO or directory (a
-    committed symlink to /dev/zero, say) or a larger file is a ToolError, found before reading
-    (opened without blocking, then checked on the open descriptor: no race with a rename)."""
+    """A regular file's bytes, at most MAX_FILE_BYTES (``files.read_regular``). A device, FIFO
+    or directory (a committed symlink to /dev/zero, say) or a larger file is a ToolError, found
+    before reading."""
     try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+        return read_regular(path, MAX_FILE_BYTES)
     except IsADirectoryError:
         raise ToolError(f"{path}: is a directory") from None
     except OSError as exc:
+        if exc.errno in (errno.EINVAL, errno.EFBIG):
+            raise ToolError(f"{path}: {exc.strerror}") from None
         raise ToolError(f"{path}: cannot read: {exc.strerror or exc}") from None
-    with open(fd, "rb", closefd=True) as handle:
-        info = os.fstat(fd)
-        if S_ISDIR(info.st_mode):
-            raise ToolError(f"{path}: is a directory")
-        if not S_ISREG(info.st_mode):
-            raise ToolError(f"{path}: not a regular file (a device, FIFO or socket): not read")
-        if info.st_size > MAX_FILE_BYTES:
-            raise ToolError(f"{path}: {info.st_size >> 20} MB, larger than the "
-                            f"{MAX_FILE_BYTES >> 20} MB a robot description may have: not read")
-        try:
-            data = handle.read(info.st_size + 1)  # (asking for MAX_FILE_BYTES allocates it)
-            if len(data) > info.st_size:  # grew since, or a size the system does not know
-                data += handle.read(MAX_FILE_BYTES + 1 - len(data))
-        except OSError as exc:
-            raise ToolError(f"{path}: cannot read: {exc.strerror or exc}") from None
-    if len(data) > MAX_FILE_BYTES:  # grew while we read
-        raise ToolError(f"{path}: larger than {MAX_FILE_BYTES >> 20} MB: not read")
-    return data
 
 
 def shown_path(file: str | Path, entry: str) -> str:

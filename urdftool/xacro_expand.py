@@ -224,7 +224,8 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     saved = (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
              xacro.process_include, xacro.safe_eval, substitution_args._eval,
              substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text,
-             xacro.get_boolean_value)
+             xacro.get_boolean_value, xacro.get_include_files)
+    globs: list[bool] = []  # per include pattern of the current <xacro:include>: matched nothing
 
     def current_loc() -> Loc:
         return _parse_loc(where[-1], files) if where else Loc(source.path, None, None)
@@ -349,10 +350,25 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             raise _Reported()
         return saved[10](value, condition)
 
+    def get_include_files(filename_spec, symbols):
+        matched = list(saved[11](filename_spec, symbols))
+        globs.append(not matched)  # only a pattern matches nothing (a name is tried as is)
+        return matched
+
     def process_include(elt, macros, symbols, func):
-        """A missing include is reported and skipped, so the rest is still expanded."""
+        """A missing include is reported and skipped, so the rest is still expanded; a
+        pattern that matches nothing is said (plain xacro only warns on stderr), the same way
+        whether or not something outside the package roots would have matched."""
         try:
-            return saved[4](elt, macros, symbols, func)
+            globs.clear()
+            result = saved[4](elt, macros, symbols, func)
+            if any(globs) and elt.getAttribute(LOC_ATTR):
+                source.add("xacro.error", Finding(
+                    f"xacro: include '{elt.getAttribute('filename')}' matched no file"
+                    + (" inside the package roots" if policy.roots is not None else "")
+                    + "; nothing included", _parse_loc(elt.getAttribute(LOC_ATTR), files),
+                    severity="warning"))
+            return result
         except xacro.XacroException as exc:
             if not hasattr(exc, "urdftool_loc") and elt.getAttribute(LOC_ATTR):
                 exc.urdftool_loc = elt.getAttribute(LOC_ATTR)
@@ -447,7 +463,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     if getattr(options, "lenient", False):
         xacro.eval_text = lenient_eval_text
     xml.dom.minidom.NodeList = _ChildList
-    xacro.get_boolean_value = get_boolean_value
+    xacro.get_boolean_value, xacro.get_include_files = get_boolean_value, get_include_files
     try:
         yield xacro
     finally:
@@ -455,7 +471,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
          xacro.process_include, xacro.safe_eval, substitution_args._eval,
          substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text,
-         xacro.get_boolean_value) = saved
+         xacro.get_boolean_value, xacro.get_include_files) = saved
 
 
 def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Policy) -> Expansion:
