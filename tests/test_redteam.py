@@ -440,3 +440,43 @@ def test_the_corpus_holds(corpus, ci, tmp_path):
     assert not markers and not leaked_files, (markers, leaked_files)
     assert SECRET not in done.stdout + done.stderr or not ci
     assert report["peak_mb"] < MEGABYTES, report["peak_mb"]
+
+
+# -- a refused expression is one located finding; the rest of the file is still checked ------
+
+REFUSED_ROBOT = HEAD + """  <xacro:property name="evil" value="${().__class__}"/>
+  <link name="base"/>
+  <link name="tip"><inertial><mass value="${evil}"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="j" type="revolute"><parent link="base"/><child link="tip"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="${'x' * 10**9}"/></joint>
+  <link name="c"><inertial><mass value="-1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="k" type="fixed"><parent link="base"/><child link="c"/></joint>
+CONDITION</robot>
+"""
+
+
+@pytest.mark.parametrize("mode", ["--trusted", "--untrusted"])
+def test_a_refused_expression_leaves_the_rest_checked(mode, tmp_path):
+    from tests.conftest import run_urdftool
+
+    path = tmp_path / "robot.urdf.xacro"
+    path.write_text(REFUSED_ROBOT.replace("CONDITION", ""))
+    result = run_urdftool("check", mode, "--format", "json", path)
+    found = {(d["rule"], d["line"]) for f in json.loads(result.out)["files"]
+             for d in f["diagnostics"]}
+    assert result.code == 1
+    assert ("xacro.unsafe-expression", 3) in found and ("xacro.limit-exceeded", 7) in found
+    assert ("inertia.mass-not-positive", 8) in found  # after both: still checked
+    # the placeholder values raise no false alarm (mass, velocity "not a number")
+    assert not any(rule.startswith("schema.") for rule, _ in found), found
+    for command in ("limits", "tree", "inertia"):  # the finding, located, and exit 1
+        other = run_urdftool(command, mode, path)
+        assert other.code == 1 and "robot.urdf.xacro:3" in other.err, other.err
+    # a condition on a refused value: which branch is unknown, the expansion stops there
+    path.write_text(REFUSED_ROBOT.replace(
+        "CONDITION", '  <xacro:if value="${evil}"><link name="d"/></xacro:if>\n'))
+    result = run_urdftool("check", mode, "--format", "json", path)
+    messages = [(d["line"], d["message"]) for f in json.loads(result.out)["files"]
+                for d in f["diagnostics"] if d["rule"] == "xacro.unsafe-expression"]
+    assert result.code == 1 and any(line == 10 and "expansion stops here" in message
+                                    for line, message in messages), messages

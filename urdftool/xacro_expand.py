@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import time
 import xml.dom.minicompat
 import xml.dom.minidom
@@ -238,10 +239,11 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         """The line of a condition (xacro gives get_boolean_value its text, not its node)."""
         shown = files.paths[int(where[-1].split(":")[0])] if where else source.path
         text = source.texts.get(shown, "")
-        index = text.find(f'"{condition}"')
-        if index < 0:
+        found = re.search(r"<(?:xacro:)?(?:if|unless)\s[^>]*?value\s*=\s*[\"']"
+                          + re.escape(condition) + "[\"']", text)
+        if found is None:
             return current_loc()
-        return Loc(shown, text.count("\n", 0, index) + 1, None)
+        return Loc(shown, text.count("\n", 0, found.start()) + 1, None)
 
     def display_path(filename: str) -> str:
         if Path(filename).resolve() == top.resolve():
