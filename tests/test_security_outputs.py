@@ -118,3 +118,42 @@ def test_convert_refuses_to_overwrite_its_input(tmp_path, monkeypatch):
     assert model.read_text() == SDF
     assert run_urdftool("convert", model, "-o", tmp_path / "model.urdf").code == 0
     assert "<robot" in (tmp_path / "model.urdf").read_text()
+
+
+INJECTED = "\n::error::pwned\n  ::stop-commands::x\n##[group]y ##vso[task.setvariable]z\n"
+
+
+def _runner_commands(text: str) -> list[str]:
+    return [line for line in text.splitlines()
+            if line.lstrip().startswith("::") or "##[" in line or "##vso[" in line]
+
+
+@pytest.mark.parametrize("kind", ["expand", "convert"])
+def test_documents_on_stdout_start_no_runner_command(tmp_path, kind):
+    # text and comments carried into the output document (a link's comment, a plugin's text)
+    # hold lines a CI runner executes: on stdout they are written as the same XML without
+    # them; a file written with -o stays exact
+    from lxml import etree
+
+    if kind == "expand":
+        path = tmp_path / "r.urdf.xacro"
+        path.write_text('<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">'
+                        f'<!--{INJECTED}--><link name="a"/><gazebo>{INJECTED}</gazebo></robot>')
+    else:
+        path = tmp_path / "m.sdf"
+        path.write_text("<sdf version='1.7'><model name='m'><link name='a'/>"
+                        f"<plugin name='p' filename='libp.so'><k>{INJECTED}</k></plugin>"
+                        "</model></sdf>")
+    shown = run_urdftool(kind, "--trusted", str(path))
+    assert shown.code == 0, shown.err
+    assert _runner_commands(shown.out) == []
+    written = tmp_path / "out.urdf"
+    assert run_urdftool(kind, "--trusted", str(path), "-o", str(written)).code == 0
+    exact = written.read_text()
+    assert _runner_commands(exact)  # the file is the document as it is
+
+    def texts(document: str) -> list[str]:
+        root = etree.fromstring(document.encode())
+        return [t for t in root.itertext() if "pwned" in t or "group" in t]
+
+    assert texts(shown.out) == texts(exact) and texts(exact)

@@ -66,6 +66,23 @@ def guard(text: str) -> str:
     return text
 
 
+def xml_guard(document: str) -> str:
+    """An XML document bound for stdout (``expand``, ``convert``): the same document for any
+    XML parser, with no line a CI runner executes. Outside comments and CDATA a ``:`` that
+    would start a line with ``::`` is written ``&#58;`` and the first ``#`` of ``##[``
+    ``&#35;``; inside them (no character references there, and no data) as ``guard`` writes
+    them. A document without such a line is returned as is."""
+    if guard(document) == document:
+        return document
+    pieces = re.split(r"(<!--.*?-->|<!\[CDATA\[.*?\]\]>)", document, flags=re.DOTALL)
+    for index in range(0, len(pieces), 2):  # the text and markup between comments
+        piece = _LEGACY.sub("&#35;", pieces[index])
+        pieces[index] = _LINE_START.sub(r"\1&#58;", piece)
+    for index in range(1, len(pieces), 2):
+        pieces[index] = guard(pieces[index])
+    return "".join(pieces)
+
+
 def json_safe(text: str) -> str:
     """A JSON document with no legacy CI command in it (``#`` as ``\\u0023`` there; the same
     JSON value once read)."""

@@ -56,7 +56,7 @@ def command(ctx, inputs, packages, output, fmt):
     import json
 
     from urdftool.cli import print_finding
-    from urdftool.display import json_safe
+    from urdftool.display import json_safe, xml_guard
     from urdftool.errors import ToolError
     from urdftool.output import write_output
     from urdftool.source import load
@@ -82,5 +82,7 @@ def command(ctx, inputs, packages, output, fmt):
                           loc.column if loc else None, finding.severity or "error", rule,
                           finding.message, finding.hint, err=True)
         if text and not errors:
+            if output in (None, "-"):  # a CI log: no line a runner executes, same XML
+                text = xml_guard(text)
             write_output(text, output, inputs=[*paths, *source.texts], offer_in_place=False)
     ctx.exit(1 if errors or not text else 0)
