@@ -323,10 +323,9 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             site = f"{files.paths[int(index)]}:{line}"
             current = before.nextSibling if before is not None else parent.firstChild
             while current is not None and current is not after:
-                if current.nodeType == current.ELEMENT_NODE:
-                    for element in [current, *current.getElementsByTagName("*")]:
-                        via = element.getAttribute(VIA_ATTR)
-                        element.setAttribute(VIA_ATTR, f"{via};{site}" if via else site)
+                if current.nodeType == current.ELEMENT_NODE:  # what it holds inherits it
+                    via = current.getAttribute(VIA_ATTR)
+                    current.setAttribute(VIA_ATTR, f"{via};{site}" if via else site)
                 current = current.nextSibling
         return expanded
 
@@ -584,15 +583,24 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
             f"xacro: the expanded document cannot be read back ({exc.msg}); nested too deeply "
             "or too large", Loc(source.path, None, None)))
         return
+    # the call sites an element was expanded at, innermost first: its own (a macro body's
+    # top-level elements are tagged) then its parent's (issue 15: tagging every element of
+    # every expansion was a tenth of a big expansion)
+    inherited: dict = {}
     for element in root.iter():
         if not isinstance(element.tag, str):
             continue
         value = element.attrib.pop(LOC_ATTR, None)
-        via = element.attrib.pop(VIA_ATTR, None)
+        own = element.attrib.pop(VIA_ATTR, None)
+        via = inherited.get(element.getparent(), ())
+        if own:
+            via = (*own.split(";"), *via)
+        if via:
+            inherited[element] = via
         if value:
             loc = _parse_loc(value, files)
             if via:
-                loc = Loc(loc.path, loc.line, loc.column, None, tuple(via.split(";")))
+                loc = Loc(loc.path, loc.line, loc.column, None, via)
             source.locs[element] = loc
     source.root = root
 
