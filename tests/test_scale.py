@@ -16,10 +16,12 @@ N = 50_000
 
 @pytest.fixture(scope="module")
 def chain(tmp_path_factory):
-    """A serial chain of N links (l0 ... l{N-1}), bare links: the parse stays quick."""
+    """A serial chain of N links (l0 ... l{N-1}), each with a mass (the inertia rules walk
+    subtrees), nothing else: the parse stays quick."""
     parts = ['<robot name="rope">']
     for i in range(N):
-        parts.append(f'<link name="l{i}"/>')
+        parts.append(f'<link name="l{i}"><inertial><mass value="0.5"/><inertia ixx="1e-3" '
+                     'iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial></link>')
         if i:
             parts.append(f'<joint name="j{i}" type="revolute"><parent link="l{i - 1}"/>'
                          f'<child link="l{i}"/><origin xyz="0 0 0.01"/><axis xyz="0 1 0"/>'
