@@ -357,8 +357,6 @@ def sdf_tricks(c: Corpus) -> None:
 
 BUILDERS = (expression_escapes, denial_of_service, yaml_tricks, substitutions_and_paths,
             xml_tricks, mesh_bombs, injections, sdf_tricks)
-# trusted mode reads the environment and any file as xacro does: these show the variable there
-READS_ENVIRONMENT = {"env", "optenv", "arg-default-env", "eval-optenv"}
 # stopped by the deadline only: one shows the default --timeout holds the 4 s, the others are
 # given 0.5 s (the mechanism is the same; the corpus stays fast)
 DEADLINE_BOUND = {"macro-flood", "doubling-properties", "yaml-many-keys", "nested-loops"}
@@ -383,8 +381,6 @@ def _plan(corpus: Corpus, ci: bool) -> list[dict]:
     plan = []
     for name, (path, commands) in corpus.cases.items():
         for command in commands:
-            if ci is False and name in READS_ENVIRONMENT and command != "check":
-                continue
             args = [command, *EXTRA.get(command, ()), *([] if ci else ["--trusted"])]
             if command == "check":
                 args += ["--no-cache"]
@@ -420,7 +416,7 @@ def test_the_corpus_holds(corpus, ci, tmp_path):
         problems = []
         if corpus.marker(run["case"].split(":")[0]).exists():
             problems.append("ran the payload")
-        if SECRET in output and not (not ci and run["case"] in READS_ENVIRONMENT):
+        if SECRET in output:
             problems.append("leaked the secret")
         if "Traceback" in output or "internal error" in output:
             problems.append("traceback")

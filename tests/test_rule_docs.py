@@ -19,7 +19,7 @@ def _write(tmp_path, text: str):
     return path
 
 
-UNTRUSTED_ONLY = {"xacro.env-not-allowed"}  # rules about what --untrusted hides
+UNTRUSTED_ONLY = {"xacro.env-not-allowed"}  # rules about the sandboxed reader's hiding
 
 
 def _fired(tmp_path, text: str, rule_id: str) -> list:

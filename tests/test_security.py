@@ -126,7 +126,10 @@ def test_untrusted_env_sees_only_allowed_variables(tmp_path, monkeypatch):
                     '  <link name="b_$(eval optenv${lp}\'URDFTOOL_SECRET\', \'none\'${rp})"/>\n'
                     + TAIL, encoding="utf-8")
     monkeypatch.setenv("URDFTOOL_SECRET", "hunter2")
-    assert "hunter2" in run_urdftool("expand", "--trusted", path).out  # your own files: as xacro
+    trusted = run_urdftool("expand", "--trusted", path)  # your own files: still no variable
+    assert trusted.code == 0 and "hunter2" not in trusted.out + trusted.err
+    assert "hunter2" in run_urdftool("expand", "--trusted", "--allow-env", "URDFTOOL_SECRET",
+                                     path).out
     untrusted = run_urdftool("expand", "--untrusted", path)
     assert untrusted.code == 0 and "hunter2" not in untrusted.out
     assert 'name="a_none"' in untrusted.out and 'name="b_none"' in untrusted.out
@@ -145,9 +148,10 @@ def test_ci_variable_makes_untrusted_the_default(tmp_path, monkeypatch):
     monkeypatch.setenv("URDFTOOL_SECRET", "hunter2")
     monkeypatch.setenv("CI", "true")
     assert "hunter2" not in run_urdftool("expand", path).out
-    assert "hunter2" in run_urdftool("expand", "--trusted", path).out
+    assert "hunter2" in run_urdftool("expand", "--trusted", "--allow-env", "URDFTOOL_SECRET",
+                                     path).out
     monkeypatch.setenv("CI", "")
-    assert "hunter2" in run_urdftool("expand", path).out
+    assert "hunter2" in run_urdftool("expand", "--allow-env", "URDFTOOL_SECRET", path).out
 
 
 def _package(tmp_path) -> Path:

@@ -49,14 +49,14 @@ def file_reader(tmp_path, monkeypatch):
 
 
 @pytest.mark.parametrize("command", COMMANDS)
-def test_untrusted_env_read_sees_nothing(command, env_reader):
-    trusted = run_urdftool(command, "--trusted", env_reader)
-    assert trusted.code == 0 and "j_hunter2" in trusted.out  # the payload works
-    untrusted = run_urdftool(command, "--untrusted", env_reader)
-    assert untrusted.code == 0, untrusted.err
-    assert "hunter2" not in untrusted.out + untrusted.err and "j_none" in untrusted.out
-    allowed = run_urdftool(command, "--untrusted", "--allow-env", "URDFTOOL_SECRET", env_reader)
-    assert "j_hunter2" in allowed.out
+def test_env_read_sees_nothing_unless_allowed(command, env_reader):
+    # in both modes: --trusted only means "not in the sandboxed reader", never "print my secrets"
+    for mode in ("--trusted", "--untrusted"):
+        hidden = run_urdftool(command, mode, env_reader)
+        assert hidden.code == 0, hidden.err
+        assert "hunter2" not in hidden.out + hidden.err and "j_none" in hidden.out
+        allowed = run_urdftool(command, mode, "--allow-env", "URDFTOOL_SECRET", env_reader)
+        assert "j_hunter2" in allowed.out  # the payload works
 
 
 @pytest.mark.parametrize("command", COMMANDS)
@@ -69,12 +69,13 @@ def test_untrusted_file_outside_the_package_is_refused(command, file_reader):
 
 
 @pytest.mark.parametrize("command", COMMANDS)
-def test_ci_variable_makes_untrusted_the_default(command, env_reader, monkeypatch):
+def test_ci_variable_makes_untrusted_the_default(command, file_reader, monkeypatch):
+    # shown by what a file outside the package gives: refused only when untrusted
     monkeypatch.setenv("CI", "true")
-    assert "hunter2" not in run_urdftool(command, env_reader).out
-    assert "j_hunter2" in run_urdftool(command, "--trusted", env_reader).out
+    assert run_urdftool(command, file_reader).code == 2
+    assert "j_hunter2" in run_urdftool(command, "--trusted", file_reader).out
     monkeypatch.setenv("CI", "")
-    assert "j_hunter2" in run_urdftool(command, env_reader).out
+    assert "j_hunter2" in run_urdftool(command, file_reader).out
 
 
 def test_sim_untrusted_refuses_a_file_outside_the_package(file_reader):
@@ -103,9 +104,9 @@ def test_convert_untrusted_reads_no_include_outside_the_package(tmp_path, monkey
 
 
 def test_optenv_default_taken_for_a_hidden_variable_is_a_finding(env_reader, monkeypatch):
-    """Issue 14: a default taken because --untrusted hides a set variable is said, with how
-    to allow it; an unset variable's default (what xacro takes too) and an allowed one are
-    not findings."""
+    """Issue 14: a default taken because urdftool hides a set variable (in every mode) is
+    said, with how to allow it; an unset variable's default (what xacro takes too) and an
+    allowed one are not findings."""
 
     def hidden(*args):
         result = run_urdftool("check", "--format", "json", *args, env_reader)
@@ -117,7 +118,8 @@ def test_optenv_default_taken_for_a_hidden_variable_is_a_finding(env_reader, mon
     assert finding["hint"] == "--allow-env URDFTOOL_SECRET" and "hunter2" not in str(finding)
     assert finding["line"] == 4 and finding["path"].endswith("env.urdf.xacro")
     assert hidden("--untrusted", "--allow-env", "URDFTOOL_SECRET") == []
-    assert hidden("--trusted") == []
+    assert [f["line"] for f in hidden("--trusted")] == [4]
+    assert hidden("--trusted", "--allow-env", "URDFTOOL_SECRET") == []
     monkeypatch.delenv("URDFTOOL_SECRET")
     assert hidden("--untrusted") == []
 

@@ -127,7 +127,7 @@ class _Reported(Exception):
 class _Policy:
     deadline: float | None = None  # time.monotonic() after which expansion stops
     roots: list[Path] | None = None  # files only under these (None: anywhere)
-    allow_env: frozenset | None = None  # $(env)/$(optenv) see only these (None: all)
+    allow_env: frozenset | None = None  # $(env)/$(optenv) see only these (None: all: tests)
     hidden: list = field(default_factory=list)  # $(optenv NAME) that took its default for it
     refused: set = field(default_factory=set)  # (expression, reason) already reported
 
@@ -438,7 +438,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     def eval_env(name):
         if policy.allow_env is not None and name not in policy.allow_env:
             raise substitution_args.SubstitutionException(
-                f"environment variable {name} is not visible: --untrusted shows only the "
+                f"environment variable {name} is not visible: a checked file reads only the "
                 "variables named with --allow-env")
         return saved[7](name)
 
@@ -525,7 +525,7 @@ def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Polic
 
 def _report_hidden(work: Source, names: list[str]) -> None:
     """``xacro.env-not-allowed`` for each ``$(optenv NAME default)`` that took its default
-    because --untrusted hides NAME, at its first use, when NAME is set (in the sandboxed
+    because urdftool hides NAME (in every mode, unless --allow-env names it), at its first use, when NAME is set (in the sandboxed
     reader, where nothing is set, the parent keeps those whose variable it has)."""
     from urdftool import sandbox
 
@@ -540,8 +540,8 @@ def _report_hidden(work: Source, names: list[str]) -> None:
                 loc = Loc(shown, text.count("\n", 0, index) + 1, index - line_start + 1)
                 break
         work.add("xacro.env-not-allowed", Finding(
-            f"$(optenv {name}) took its default: --untrusted hides the environment variable "
-            f"{name}, which is set", loc, hint=f"--allow-env {name}", severity="warning"))
+            f"$(optenv {name}) took its default: urdftool hides the environment variable "
+            f"{name}, which is set, unless --allow-env names it", loc, hint=f"--allow-env {name}", severity="warning"))
 
 
 def _one_line(rule: str, finding: Finding) -> tuple[str, Finding]:
@@ -568,7 +568,9 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
         result = _xacro_pass(source, path, options,
                              _Policy(deadline, roots, frozenset(options.allow_env)))
     else:
-        result = _xacro_pass(source, path, options, _Policy(deadline))
+        # your own files, in this process: still no variable unless --allow-env names it
+        result = _xacro_pass(source, path, options,
+                             _Policy(deadline, allow_env=frozenset(options.allow_env)))
     source.problems.extend(result.problems)
     for shown, text in result.texts.items():
         source.texts.setdefault(shown, text)

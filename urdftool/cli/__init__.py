@@ -128,8 +128,8 @@ def untrusted_options(function):
                           "one file or mesh read by the sandboxed reader (default 3 s)."),
         click.option("--allow-env", "allow_env", multiple=True, metavar="NAME",
                      expose_value=False, callback=_remember,
-                     help="With --untrusted: an environment variable $(env NAME) and "
-                          "$(optenv NAME) may read. Repeatable."),
+                     help="An environment variable $(env NAME) and $(optenv NAME) may read "
+                          "(in every mode: by default a file reads none). Repeatable."),
         click.option("--untrusted/--trusted", "untrusted", default=None, expose_value=False,
                      callback=_remember,
                      help="Treat the input as hostile: read xacro, YAML, SDF and meshes in "

@@ -403,10 +403,10 @@ source_rule(
 
 source_rule(
     "xacro.env-not-allowed", "warning",
-    "`$(optenv NAME default)` took its default because --untrusted hides NAME",
-    doc="""Under `--untrusted` (the default when `CI` is set) xacro's `$(env NAME)` and
-    `$(optenv NAME)` see only the variables named with `--allow-env`: the environment of a CI
-    runner holds its secrets. A description that picks an accessory, a mesh folder or a
+    "`$(optenv NAME default)` took its default because urdftool hides NAME",
+    doc="""In every mode xacro's `$(env NAME)` and `$(optenv NAME)` see only the variables named
+    with `--allow-env`: the environment of a CI runner holds its secrets, and a file checked
+    with `--trusted` is still never let print one. A description that picks an accessory, a mesh folder or a
     variant with `$(optenv NAME default)` is then checked with the default even though NAME is
     set, so the robot checked is not the robot your environment builds. urdftool says so
     rather than check another robot in silence. If the variable is not secret and the robot
