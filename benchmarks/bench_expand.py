@@ -10,8 +10,8 @@ CPU time (user + system, the median of --runs) of each child process:
   trusted     `urdftool expand --trusted --timeout 3600 FILE`
   untrusted   `urdftool expand --untrusted --timeout 3600 FILE` (the default under CI: the
               xacro pass runs in the sandboxed reader, a fresh `python -I`)
-  (--timeout: the default limit of one expansion, 5 s, stops the big generated files; the
-  last column says whether the default stops it)
+  (--timeout: the default time limit of one expansion, LoadOptions.timeout, stops the big
+  generated files; the last column says whether the default stops it)
 
 Inputs: the xacro entries of robots/ (corrected), of /work/shared/real-packages (or --packages)
 and a generated xacro robot with macros (properties, nested macro calls, expressions per
@@ -154,7 +154,7 @@ def main() -> None:
     print(f"python start: {start * 1000:.0f} ms CPU; import xacro, click, lxml.etree: "
           f"{floor * 1000:.0f} ms; CPU seconds, ratios to plain xacro on the same file")
     print(f"{'input':<52} {'xacro':>7} {'floor':>6} {'trusted':>14} {'untrusted':>14} "
-          "5 s limit")
+          "default limit")
     with tempfile.TemporaryDirectory() as tmp:
         inputs = entries()
         for n in (int(s) for s in args.sizes.split(",") if s):
