@@ -470,7 +470,11 @@ def source_to_json(source) -> dict:
             if element in source.locs:
                 element.set(_LOC_INDEX, str(len(locs)))
                 locs.append(_loc_json(source.locs[element]))
-        text = etree.tostring(source.root, encoding="unicode")
+        # the comments beside the root too: expand prints them, as xacro does
+        root = source.root
+        nodes = [*reversed(list(root.itersiblings(preceding=True))), root, *root.itersiblings()]
+        text = "".join(etree.tostring(node, encoding="unicode", with_tail=False)
+                       for node in nodes)
     return {"kind": source.kind, "root": text, "locs": locs, "texts": source.texts,
             "unread": source.unread,
             "problems": [[rule, f.message, _loc_json(f.loc), f.hint, f.severity,
