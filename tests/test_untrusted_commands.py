@@ -169,3 +169,19 @@ def test_untrusted_expand_prints_what_trusted_prints(entry, monkeypatch):
     trusted = run_urdftool("expand", "--trusted", entry.name)
     assert trusted.code == 0, trusted.err
     assert run_urdftool("expand", "--untrusted", entry.name).out == trusted.out
+
+
+def test_reader_reused_across_working_directories(tmp_path, monkeypatch):
+    # a library caller (or a test run) that changes directory between runs: a relative path
+    # is the caller's, never the directory an earlier reader was started in
+    for name in ("first", "second"):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "robot.urdf.xacro").write_text(
+            f'<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="{name}">'
+            '<xacro:property name="s" value="0.1"/><link name="a${s}"/></robot>')
+    monkeypatch.chdir(tmp_path)  # one reader for both packages, started here
+    assert run_urdftool("check", "--untrusted", "first", "second").code == 0
+    for name in ("first", "second"):
+        monkeypatch.chdir(tmp_path / name)
+        result = run_urdftool("expand", "--untrusted", "robot.urdf.xacro")
+        assert result.code == 0 and f'name="{name}"' in result.out, result.err

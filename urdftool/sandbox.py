@@ -167,6 +167,7 @@ class Child:
         self.read = [Path(p) for p in read]
         self.settings = (int(memory_mb), tuple(allow_env))
         self.owner = os.getpid()
+        self.cwd = os.getcwd()  # relative paths in requests are the parent's: same directory
         self.buffer = b""
         self.requests = 0
         package_parent = str(Path(__file__).resolve().parent.parent)
@@ -302,7 +303,8 @@ def _child(roots: list[Path]) -> Child:
     current = _CHILD[0] if _CHILD else None
     settings = (int(_RUN.get("memory_mb", 1024)), tuple(_RUN.get("allow_env", ())))
     if current is not None and current.alive() and current.covers(roots) \
-            and current.settings == settings and current.cpu_seconds() < CHILD_CPU_SECONDS / 2:
+            and current.settings == settings and current.cwd == os.getcwd() \
+            and current.cpu_seconds() < CHILD_CPU_SECONDS / 2:
         return current
     read = list(dict.fromkeys([*roots, *_RUN.get("expected", ())]))
     if current is not None:
