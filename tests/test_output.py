@@ -310,6 +310,25 @@ def test_expand_writes_what_plain_xacro_writes(name, tmp_path, monkeypatch):
     assert out.read_text() == theirs.stdout
 
 
+@pytest.mark.parametrize("mode", ["--trusted", "--untrusted"])
+def test_expand_writes_blank_only_elements_as_plain_xacro(tmp_path, monkeypatch, mode):
+    # a macro-only fragment's root and a <link> holding only a newline: xacro writes them
+    # <x ...>, a newline, </x>, never <x .../>
+    (tmp_path / "fragment.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="f">\n'
+        '  <xacro:property name="r" value="0.1"/>\n'
+        '  <xacro:macro name="m" params="p"><link name="${p}"/></xacro:macro>\n</robot>\n')
+    (tmp_path / "robot.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
+        '  <link name="a">\n  </link>\n  <link name="b"/>\n</robot>\n')
+    monkeypatch.chdir(tmp_path)
+    xacro = Path(sys.executable).parent / "xacro"
+    for name in ("fragment.xacro", "robot.xacro"):
+        theirs = subprocess.run([str(xacro), name], capture_output=True, text=True, check=True)
+        ours = run_urdftool("expand", mode, name)
+        assert ours.code == 0 and ours.out == theirs.stdout, (name, ours.out, theirs.stdout)
+
+
 def test_expand_onto_its_input_does_not_suggest_in_place(tmp_path):
     path = tmp_path / "r.urdf.xacro"
     path.write_text((ROBOTS / "m2wr" / "corrected" / "m2wr.xacro").read_text())

@@ -119,6 +119,22 @@ class OutsidePackage(Exception):
         self.path = path
 
 
+BLANK_ATTR = "urdftool-blank"
+
+
+def _mark_blank_only(doc) -> None:
+    """Mark the elements whose only children are blank text (a macro-only file's root, a
+    ``<link>`` with a newline inside): xacro's writer drops blank text but still writes them
+    ``<x>`` ``</x>``, while its serialisation read back has no child left to tell."""
+    stack = [doc.documentElement]
+    while stack:
+        node = stack.pop()
+        children = node.childNodes
+        if children and all(c.nodeType == c.TEXT_NODE and not c.data.strip() for c in children):
+            node.setAttribute(BLANK_ATTR, "")
+        stack.extend(c for c in children if c.nodeType == c.ELEMENT_NODE)
+
+
 class _Reported(Exception):
     """Expansion stopped on problems already recorded (a condition on a refused value)."""
 
@@ -492,6 +508,7 @@ def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Polic
         try:
             xacro.init_stacks(str(path))
             doc = xacro.process_file(str(path), mappings=dict(options.xacro_args))
+            _mark_blank_only(doc)
             expanded = doc.toxml()
         except _Reported:
             pass
@@ -585,6 +602,10 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
             f"xacro: the expanded document cannot be read back ({exc.msg}); nested too deeply "
             "or too large", Loc(source.path, None, None)))
         return
+    for element in root.iter():  # written <x>...</x> by xacro, not <x/>: keep a blank text
+        if isinstance(element.tag, str) and element.attrib.pop(BLANK_ATTR, None) is not None \
+                and element.text is None and not len(element):
+            element.text = "\n"
     # the call sites an element was expanded at, innermost first: its own (a macro body's
     # top-level elements are tagged) then its parent's (issue 15: tagging every element of
     # every expansion was a tenth of a big expansion)
