@@ -19,6 +19,8 @@ import ast
 import re
 from pathlib import Path
 
+from urdftool.files import read_regular_text
+
 MAX_FILES = 64
 MAX_BYTES = 256 * 1024
 MAX_SETS = 8  # argument sets per xacro file
@@ -37,10 +39,8 @@ def launch_arguments(root: Path) -> dict[str, list[tuple[dict[str, str], str]]]:
     files = sorted(p for p in directory.rglob("*") if _is_launch(p))[:MAX_FILES]
     for path in files:
         try:
-            if path.stat().st_size > MAX_BYTES:
-                continue
-            text = path.read_text(encoding="utf-8", errors="replace")
-        except OSError:
+            text = read_regular_text(path, MAX_BYTES)
+        except OSError:  # larger than MAX_BYTES, not a regular file, unreadable
             continue
         read = _python if path.suffix == ".py" else _xml
         for name, args in read(text):

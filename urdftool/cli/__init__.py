@@ -156,9 +156,9 @@ def load_options(packages: tuple[str, ...], xacro_args: dict[str, str]):
     given = ctx.meta.get(_UNTRUSTED_KEY, {}) if ctx is not None else {}
     untrusted = given.get("untrusted")
     options.untrusted = untrusted_default() if untrusted is None else untrusted
-    cache = sys.modules.get("urdftool.cache")
-    if cache is not None or options.untrusted:
+    if options.untrusted or "urdftool.cache" in sys.modules:  # (else nothing to reset)
         from urdftool import cache
+
         # untrusted: no file written unless a cache directory is named for it
         cache.WRITABLE = not options.untrusted or bool(os.environ.get("URDFTOOL_CACHE_DIR"))
     meshes = sys.modules.get("urdftool.physics.meshes")
