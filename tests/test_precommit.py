@@ -167,3 +167,37 @@ def test_readme_local_hook_works_as_written(tmp_path):
     unused.write_text(unused.read_text().replace("<mu1>0.1</mu1>", "<mu1>0.1</mu>"))
     blocked = _commit(repo, env, "broken")
     assert blocked.returncode != 0 and "unused.xacro:6:" in blocked.stdout, blocked.stdout
+
+
+ARM = Path(__file__).parent / "data" / "packages" / "arm_description"
+
+
+def test_shipped_hook_sees_every_input_of_an_entry(shipped, tmp_path):
+    """Issue 23: a commit that changes only the YAML file the xacro loads is checked through
+    the entry that loads it; a commit of a file no entry reads passes silently."""
+    repo = _repo(tmp_path / "team", _shipped_config(shipped))
+    package = repo / "arm_description"
+    shutil.copytree(ARM, package)
+    env = _env(shipped[2])
+    subprocess.run([sys.executable, "-m", "pre_commit", "install"], cwd=repo, env=env,
+                   check=True, capture_output=True)
+    first = _commit(repo, env, "a clean package")
+    assert first.returncode == 0, first.stdout
+
+    limits = package / "config" / "joint_limits.yaml"
+    limits.write_text(limits.read_text().replace("lower: -1.5", "lower: 2.5"))
+    blocked = _commit(repo, env, "limits retouched")
+    line = next(n for n, text in enumerate((package / "urdf" / "arm.urdf.xacro").read_text()
+                                           .splitlines(), 1) if "<limit" in text)
+    assert blocked.returncode != 0, blocked.stdout
+    assert f"arm_description/urdf/arm.urdf.xacro:{line}:" in blocked.stdout
+    assert "joint.lower-above-upper" in blocked.stdout and "lower 2.5 > upper 1.5" in blocked.stdout
+    assert "reads arm_description/config/joint_limits.yaml" in blocked.stdout, blocked.stdout
+    _git(repo, "reset", "-q", "--hard")
+
+    # a YAML file no entry reads: the hook runs (not skipped), passes, prints nothing
+    (package / "config" / "controllers.yaml").write_text("controller_manager: {}\n")
+    passed = _commit(repo, env, "controllers")
+    assert passed.returncode == 0, passed.stdout
+    assert re.search(r"urdftool check\.+Passed", passed.stdout), passed.stdout
+    assert "error" not in passed.stdout and "file(s)" not in passed.stdout

@@ -19,7 +19,16 @@ from pathlib import Path
 from urdftool.config import Config, suppressions
 from urdftool.errors import ToolError
 from urdftool.model import build_robot
-from urdftool.package import Target, classify, plan, role, store_reads, unaffected
+from urdftool.package import (
+    Target,
+    classify,
+    other_inputs,
+    plan,
+    role,
+    seen_files,
+    store_reads,
+    unaffected,
+)
 from urdftool.report import (
     Diagnostic,
     FileReport,
@@ -230,7 +239,7 @@ def finish(source, robot, diagnostics: list[Diagnostic], texts: dict[str, str]) 
     report = FileReport(source.path, robot.name, diagnostics, texts)
     report.args = {}
     report.includes = tuple(sorted({str(Path(p).resolve()) for p in texts
-                                    if p != source.path}))
+                                    if p != source.path} | other_inputs(source, robot)))
     report.role = role(source)
     return report
 
@@ -292,6 +301,10 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
     total)`` is called as files are done (the CLI's progress display)."""
     options = options or CheckOptions()
     files, given = plan(paths, options.changed)
+    if not files and given is not None:  # changed files of no package with robot files
+        report = Report([], [])
+        report.seen = set()
+        return report
     if not files:
         raise ToolError("no robot files (*.urdf, *.xacro, *.sdf) found in " + ", ".join(paths))
     if options.load.untrusted:  # one sandboxed reader for the run, not one per package
@@ -322,7 +335,9 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
             if given is not None:
                 store_reads(files[i], options.load, report)
         shown, notes = classify(files, reports, given)
-        return Report(merge_repeats(shown), notes)
+        report = Report(merge_repeats(shown), notes)
+        report.seen = seen_files(files, shown, reports, given)
+        return report
     finally:
         gc.set_threshold(*thresholds)
 

@@ -89,8 +89,9 @@ def plan(paths: list[str], changed: bool = False) -> tuple[list[Target], set[str
         if path.is_dir():
             files.extend(robot_files(path))
         elif path.exists():
-            files.append(path)
-            if given is not None:
+            if given is None or path.name.endswith(ROBOT_SUFFIXES):
+                files.append(path)  # (changed-files mode: a YAML, a mesh, a launch file only
+            if given is not None:  # re-checks the entries that read it: ``triggered``)
                 given.add(str(path.resolve()))
         else:
             raise ToolError(f"{raw}: no such file or directory")
@@ -182,17 +183,82 @@ def classify(targets: list[Target], reports: list[FileReport],
         kept, elsewhere = [], 0
         for i in shown:
             report = reports[i]
-            if not ({resolved[i], *report.includes} & given):
-                continue
-            inside = [d for d in report.diagnostics if str(Path(d.path).resolve()) in given]
-            elsewhere += len(report.diagnostics) - len(inside)
-            report.diagnostics = inside
+            inputs = triggers(targets[i], report, given)
+            if not inputs:
+                if not ({resolved[i], *report.includes} & given):
+                    continue
+                inside = [d for d in report.diagnostics if str(Path(d.path).resolve()) in given]
+                elsewhere += len(report.diagnostics) - len(inside)
+                report.diagnostics = inside
+            else:  # a YAML, a mesh, a launch file: its values show in the entry's findings
+                notes.append(f"{report.path}: checked because it reads "
+                             + ", ".join(_shown(Path(p), [report.path]).as_posix()
+                                         for p in inputs))
             kept.append(i)
         shown = kept
         if elsewhere:
             notes.append(f"{elsewhere} finding(s) in files that were not given are not shown "
                          "(check the package to see them)")
     return [reports[i] for i in shown], notes
+
+
+def seen_files(targets: list[Target], shown: list[FileReport], reports: list[FileReport],
+               given: set[str] | None) -> set[str]:
+    """The files (resolved) whose findings a run reports in full (a baseline compares only
+    those, ``urdftool.baseline``): every file the checks read; in changed-files mode, the given
+    files the shown checks read, and every file of a check shown for a YAML, mesh or launch
+    file it reads."""
+    if given is None:
+        return {p for t, r in zip(targets, reports) if r is not None
+                for p in (str(Path(t.path).resolve()), *r.includes)}
+    by_report = {id(r): t for t, r in zip(targets, reports)}
+    seen: set[str] = set()
+    for report in shown:
+        files = {str(Path(report.path).resolve()), *report.includes}
+        target = by_report.get(id(report))
+        if target is not None and triggers(target, report, given):
+            seen |= files
+        else:
+            seen |= files & given
+    return seen
+
+
+def other_inputs(source, robot) -> set[str]:
+    """What a check read besides XML files (resolved): the YAML files its expansion loaded and
+    the mesh files its robot names (they exist). Changed-files mode re-checks an entry when one
+    of them changes (issue 23: every input of an entry is a trigger)."""
+    found = set(getattr(source, "reads", ()))
+    if any(shape.geometry.filename for link in robot.links for shape in link.shapes):
+        from urdftool.physics.meshes import resolve
+
+        for link in robot.links:
+            for shape in link.shapes:
+                if shape.geometry.filename:
+                    try:
+                        path = resolve(robot, shape.geometry)
+                    except Exception:  # noqa: BLE001 - an unresolvable URI is the rules' business
+                        path = None
+                    if path is not None and path.is_file():
+                        found.add(str(path.resolve()))
+    return found
+
+
+def triggers(target: Target, report: FileReport, given: set[str]) -> list[str]:
+    """The given files other than robot files that the check of ``target`` read: YAML and
+    meshes it read, launch files of its package (they choose a xacro file's arguments)."""
+    found = [p for p in report.includes if p in given and not p.endswith(ROBOT_SUFFIXES)]
+    return found + _launch_triggers(target, given)
+
+
+def _launch_triggers(target: Target, given: set[str]) -> list[str]:
+    if not target.path.endswith(".xacro"):
+        return []
+    launch = [p for p in given if p.endswith((".launch.py", ".launch", ".launch.xml"))
+              or (p.endswith(".py") and "launch" in Path(p).name)]
+    if not launch:
+        return []
+    directory = str(package_root(Path(target.path)) / "launch") + os.sep
+    return [p for p in launch if p.startswith(directory)]
 
 
 def _needs_robot(rule_id: str) -> bool:
@@ -255,7 +321,7 @@ def unaffected(targets: list[Target], given: set[str] | None,
             read_by_others.update(reads[0])
     todo = []
     for index, (target, reads) in enumerate(zip(targets, known)):
-        if reads is None or given.intersection(reads[0]) or (
+        if reads is None or given.intersection(reads[0]) or _launch_triggers(target, given) or (
                 str(Path(target.path).resolve()) in given  # a given fragment that an entry
                 and not (reads[1] == "fragment" and str(Path(target.path).resolve())  # reads
                          in read_by_others)):  # is checked through that entry only

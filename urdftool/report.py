@@ -165,11 +165,14 @@ class FileReport:
 
 
 class Report:
-    __slots__ = ("files", "notes")
+    __slots__ = ("files", "notes", "seen")
 
     def __init__(self, files: list[FileReport] | None = None, notes: list[str] | None = None):
         self.files = files if files is not None else []
         self.notes = notes if notes is not None else []  # one line each, for stderr
+        # the files (resolved) whose findings this report holds in full (None: all it names);
+        # a baseline compares only those (urdftool.baseline)
+        self.seen: set[str] | None = None
 
     def count(self, severity: str) -> int:
         return sum(d.severity == severity for f in self.files for d in f.diagnostics)

@@ -478,7 +478,7 @@ def source_to_json(source) -> dict:
         text = "".join(etree.tostring(node, encoding="unicode", with_tail=False)
                        for node in nodes)
     return {"kind": source.kind, "root": text, "locs": locs, "texts": source.texts,
-            "unread": source.unread,
+            "unread": source.unread, "reads": sorted(source.reads),
             "problems": [[rule, f.message, _loc_json(f.loc), f.hint, f.severity,
                           [list(e) for e in f.edits]] for rule, f in source.problems]}
 
@@ -525,6 +525,7 @@ def source_from_json(data, path: str):
         source = Source(path, data["kind"], texts={text(k, False): text(v, False)
                                                    for k, v in data["texts"].items()})
         source.unread = {text(k, False): text(v, False) for k, v in data["unread"].items()}
+        source.reads = {text(p, False) for p in data.get("reads", ())}
         for rule, message, where, hint, severity, edits in data["problems"]:
             source.add(text(rule, False), Finding(text(message, False), loc(where), text(hint),
                                                   text(severity), tuple(map(edit, edits))))

@@ -70,8 +70,8 @@ class LoadOptions:
 class Source:
     """One input file, read and (for xacro) expanded."""
 
-    __slots__ = ("_xpaths", "kind", "lines", "locs", "path", "problems", "resolver", "root",
-                 "texts", "unread")
+    __slots__ = ("_xpaths", "kind", "lines", "locs", "path", "problems", "reads", "resolver",
+                 "root", "texts", "unread")
 
     def __init__(self, path: str, kind: str, root: etree._Element | None = None,
                  problems: list[tuple[str, Finding]] | None = None,
@@ -82,6 +82,7 @@ class Source:
         self.root = root  # the URDF document (expanded / converted)
         self.problems = problems if problems is not None else []
         self.texts = texts if texts is not None else {}  # every file read -> its original text
+        self.reads: set[str] = set()  # other files the reading read (YAML): resolved paths
         # files an <include> names that were not read (unprefixed, hence never processed):
         # shown path -> text (``find_unread``)
         self.unread: dict[str, str] = {}

@@ -108,6 +108,7 @@ class Expansion:
     files: list[str] = field(default_factory=list)  # the index used in the tags
     problems: list = field(default_factory=list)  # (rule, Finding)
     texts: dict[str, str] = field(default_factory=dict)  # every file read -> its text
+    reads: list[str] = field(default_factory=list)  # other files read (YAML), resolved
 
 
 class OutsidePackage(Exception):
@@ -234,7 +235,9 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             raise OSError(f"{filename}: not a regular file (a device or a pipe)")
         if os.path.isfile(filename) and os.path.getsize(filename) > MAX_FILE_BYTES:
             raise LimitExceeded(f"{filename}: larger than {MAX_FILE_BYTES >> 20} MB")
-        return read_text(Path(filename))
+        text = read_text(Path(filename))
+        source.reads.add(os.path.realpath(filename))  # a trigger of the entry (issue 23)
+        return text
 
     interpreter = Interpreter(policy.deadline, read_yaml)
     node_list = xml.dom.minidom.NodeList
@@ -537,7 +540,7 @@ def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Polic
                 work.add("xacro.error", Finding(f"xacro: {type(exc).__name__}: {exc}", loc))
     _report_hidden(work, policy.hidden)
     return Expansion(expanded, list(files.paths), [_one_line(rule, f) for rule, f in work.problems],
-                     work.texts)
+                     work.texts, sorted(work.reads))
 
 
 def _report_hidden(work: Source, names: list[str]) -> None:
@@ -589,6 +592,7 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
         result = _xacro_pass(source, path, options,
                              _Policy(deadline, allow_env=frozenset(options.allow_env)))
     source.problems.extend(result.problems)
+    source.reads.update(result.reads)
     for shown, text in result.texts.items():
         source.texts.setdefault(shown, text)
     if result.text is None:
