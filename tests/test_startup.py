@@ -24,6 +24,8 @@ UNNEEDED = (
     # and its worker results; pyproject.toml
     "difflib", "bisect", "hashlib", "multiprocessing", "concurrent.futures", "pickle",
     "tomllib" if sys.version_info >= (3, 11) else "tomli",
+    # the language server (urdftool lsp) and its protocol libraries
+    "urdftool.lsp", "urdftool.cli.lsp", "pygls", "lsprotocol", "cattrs", "asyncio",
 )
 
 RUN = """

@@ -214,6 +214,13 @@ def check_file(path: Path | str, options: CheckOptions | None = None,
     """All findings for one file (``target``: with the xacro arguments and packages of its
     configuration), looking through its safe fixes. Raises ToolError when the file cannot be
     read at all."""
+    return check_model(path, options, target)[0]
+
+
+def check_model(path: Path | str, options: CheckOptions | None = None,
+                target: Target | None = None):
+    """(``check_file``'s report, the robot the rules ran on): the language server answers
+    hovers from the model of its last check."""
     options = options or CheckOptions()
     load_options = target_options(options, target)
     source, robot, diagnostics = check_once(path, options, load_options)
@@ -223,7 +230,7 @@ def check_file(path: Path | str, options: CheckOptions | None = None,
                                                   diagnostics)
     report = finish(source, robot, diagnostics, texts)
     report.args = target.args if target is not None else {}
-    return report
+    return report, robot
 
 
 def finish(source, robot, diagnostics: list[Diagnostic], texts: dict[str, str]) -> FileReport:

@@ -35,6 +35,7 @@ COMMANDS = {
     "sim": "short PyBullet physics smoke test per model",
     "rules": "the rule catalogue",
     "doctor": "optional libraries and --untrusted sandbox layers on this machine",
+    "lsp": "language server (LSP, stdio): the findings, fixes and numbers in the editor",
 }
 
 

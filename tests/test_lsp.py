@@ -1,0 +1,151 @@
+"""``urdftool lsp`` end to end (pytest-lsp: the server started as editors start it, over
+stdio): its diagnostics are ``check --format json``'s, its quick fixes remove what they fix,
+its "fix all" is ``check --fix``, bad input gives diagnostics and never a crash."""
+
+from __future__ import annotations
+
+import functools
+import shutil
+
+import pytest
+import pytest_lsp
+from lsprotocol import types as lsp
+from pytest_lsp import LanguageClient
+
+from tests.conftest import ROBOTS, ROOT
+from tests.lsp_client import (
+    SERVER,
+    apply_edits,
+    change,
+    check_fix,
+    check_json,
+    checked,
+    open_file,
+    published,
+    start,
+    uri,
+)
+
+REAL = ROOT.parent / "shared" / "real-packages"
+if not REAL.is_dir():
+    REAL = ROOT.parent.parent / "shared" / "real-packages"
+SEEDS = sorted(p for p in ROBOTS.glob("*/*") if p.is_dir())
+REAL_PACKAGES = sorted(p for p in REAL.glob("*") if p.is_dir()) if REAL.is_dir() else []
+
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
+
+@pytest_lsp.fixture(config=SERVER, scope="module", loop_scope="module")
+async def client(lsp_client: LanguageClient):
+    await start(lsp_client)
+    yield
+    await lsp_client.shutdown_session()
+
+
+@functools.cache
+def _all_checked() -> frozenset:
+    """`check --format json` on every seed and real package directory (one run)."""
+    return frozenset(check_json("--trusted", *map(str, SEEDS + REAL_PACKAGES)))
+
+
+def first_robot_file(directory):
+    return min(p for p in directory.rglob("*")
+               if p.suffix in (".xacro", ".urdf", ".sdf") and p.is_file())
+
+
+@pytest.mark.parametrize("directory", SEEDS + REAL_PACKAGES,
+                         ids=[f"{p.parent.name}/{p.name}" for p in SEEDS + REAL_PACKAGES])
+async def test_diagnostics_are_the_findings_of_check(client, directory):
+    """Opening one file of a package publishes the findings of `check DIR` on every file of
+    it, at the same rule, file, line, column and severity."""
+    await open_file(client, first_robot_file(directory))
+    expected = {f for f in _all_checked() if f[1].startswith(str(directory.resolve()) + "/")}
+    assert expected or directory.name == "corrected"
+    assert published(client, directory) == expected
+
+
+def _copy(tmp_path, directory):
+    target = tmp_path / directory.name
+    shutil.copytree(directory, target)
+    return target
+
+
+async def _actions(client, path, line: int, only=None):
+    return await client.text_document_code_action_async(lsp.CodeActionParams(
+        lsp.TextDocumentIdentifier(uri(path)),
+        lsp.Range(lsp.Position(line - 1, 0), lsp.Position(line - 1, 0)),
+        lsp.CodeActionContext(diagnostics=[], only=only)))
+
+
+def _at(client, path, rule: str) -> list[int]:
+    return sorted(d.range.start.line + 1 for d in client.diagnostics.get(uri(path), [])
+                  if d.code == rule)
+
+
+async def test_a_quick_fix_removes_its_diagnostic(client, tmp_path):
+    robot = _copy(tmp_path, ROBOTS / "m2wr" / "published") / "m2wr.xacro"
+    text = robot.read_text(encoding="utf-8")
+    await open_file(client, robot)
+    lines = _at(client, robot, "xml.unclosed-tag")
+    assert lines, client.diagnostics.get(uri(robot))
+    actions = await _actions(client, robot, lines[0], [lsp.CodeActionKind.QuickFix])
+    fix = next(a for a in actions if a.title.startswith("Fix xml.unclosed-tag"))
+    assert fix.is_preferred and fix.kind == lsp.CodeActionKind.QuickFix
+    fixed = apply_edits(text, fix.edit.changes[uri(robot)])
+    assert fixed != text and fixed.count("\n") == text.count("\n")
+    await change(client, robot, fixed)
+    assert lines[0] not in _at(client, robot, "xml.unclosed-tag")
+    assert len(_at(client, robot, "xml.unclosed-tag")) == len(lines) - 1
+    # the server's findings on the unsaved buffer are check's on the same text saved
+    robot.write_text(fixed, encoding="utf-8")
+    assert published(client, robot.parent) == check_json("--trusted", str(robot.parent))
+
+
+async def test_ignore_here_writes_the_suppression_comment(client, tmp_path):
+    robot = _copy(tmp_path, ROBOTS / "m2wr" / "published") / "m2wr.xacro"
+    text = robot.read_text(encoding="utf-8")
+    await open_file(client, robot)
+    rule = "gazebo.drive-geometry"
+    _at_lines = _at(client, robot, rule)
+    line = _at_lines[0]
+    actions = await _actions(client, robot, line)
+    ignore = next(a for a in actions if a.title.startswith(f"Ignore {rule}"))
+    edited = apply_edits(text, ignore.edit.changes[uri(robot)])
+    assert f"<!-- urdftool: ignore {rule} -->" in edited.split("\n")[line - 1]
+    await change(client, robot, edited)
+    after = _at(client, robot, rule)  # the lines below the comment moved down by one
+    assert line not in after and len(after) == len(_at_lines) - 1
+    robot.write_text(edited, encoding="utf-8")
+    assert published(client, robot.parent) == check_json("--trusted", str(robot.parent))
+
+
+async def test_fix_all_is_check_fix(client, tmp_path):
+    robot = _copy(tmp_path, ROBOTS / "smartcar" / "published")
+    path = first_robot_file(robot)
+    text = path.read_text(encoding="utf-8")
+    await open_file(client, path)
+    actions = await _actions(client, path, 1, ["source.fixAll"])
+    assert [a.kind for a in actions] == ["source.fixAll.urdftool"]
+    fixed = apply_edits(text, actions[0].edit.changes[uri(path)])
+    assert fixed == check_fix(path, tmp_path / "fixed.xacro") != text
+
+
+async def test_bad_input_is_a_diagnostic_never_a_crash(client, tmp_path):
+    lone = tmp_path / "lone"
+    lone.mkdir()
+    broken = lone / "broken.urdf"
+    broken.write_text("this is not XML at all", encoding="utf-8")
+    await open_file(client, broken)
+    assert published(client, lone) == check_json("--trusted", str(lone))
+    assert published(client, lone)
+    bad = lone / "bad.xacro"
+    bad.write_text('<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+                   '  <link name="${undefined_thing}"/>\n</robot>\n', encoding="utf-8")
+    await open_file(client, bad)
+    assert any(d.code == "xacro.error" and d.range.start.line == 1
+               for d in client.diagnostics[uri(bad)])
+    # the buffer becomes binary junk, then empty: still diagnostics, still answering
+    await change(client, bad, "\x00\x01<<<>>>")
+    await change(client, bad, "", version=3)
+    assert client.diagnostics[uri(bad)]
+    assert await checked(client) is None

@@ -1,0 +1,350 @@
+"""The runs behind ``urdftool lsp``, without the protocol.
+
+The open buffers, and one *unit* per package an open file belongs to: the plan of
+``check DIR`` on that package (``package.plan``: every robot file, configured entries with their
+arguments, launch-file arguments), a report and a robot per target, and what each check read.
+An edit marks stale the checks that read the edited file; ``refresh`` re-checks those (the
+entries first: a fragment an entry reads is reported through the entry, so its own check is
+put off until nothing else is waiting) and the unit's findings are then ``check DIR``'s:
+``package.classify``, ``report.merge_repeats`` and the configured baseline, on the same
+reports. Nothing here judges a robot: every finding comes from ``urdftool.check``.
+
+The buffers are read through ``LoadOptions.overlay`` (in the sandboxed reader too when the
+workspace is untrusted). Used from one thread (the server's worker); ``snapshot`` is replaced
+whole after each refresh, for the requests answered meanwhile.
+"""
+
+from __future__ import annotations
+
+import copy
+import os
+import sys
+from pathlib import Path
+from typing import ClassVar, NamedTuple
+
+from urdftool.check import CheckOptions, check_model
+from urdftool.config import Config, load_config
+from urdftool.errors import ToolError
+from urdftool.package import Target, classify, package_root, plan
+from urdftool.report import Diagnostic, FileReport, Report, merge_repeats
+from urdftool.source import ROBOT_SUFFIXES, LoadOptions
+
+# a directory that is no package (no package.xml, no configuration above the file) is checked
+# as `check DIR` would when it holds at most this many robot files, else the file alone
+MAX_LOOSE_FILES = 64
+ERROR_RULE = ""  # a check that could not run (`check` exits 2): said at the file's first line
+
+
+class Settings:
+    """What the operator chose: launch arguments, then ``initializationOptions``, then the
+    ``urdftool`` section of the workspace settings. ``trusted`` only from the client's
+    initialization options (VS Code's workspace trust): untrusted otherwise."""
+
+    KEYS: ClassVar[dict] = {"packages": dict, "args": dict, "select": list, "ignore": list, "allowEnv": list,
+            "timeout": (int, float), "memoryLimit": int, "debounce": (int, float),
+            "ruleDocsUrl": str, "trusted": bool}
+
+    def __init__(self):
+        self.packages: dict[str, str] = {}
+        self.args: dict[str, str] = {}
+        self.select: list[str] = []
+        self.ignore: list[str] = []
+        self.allow_env: tuple[str, ...] = ()
+        self.timeout: float | None = None
+        self.memory_mb: int | None = None
+        self.debounce = 0.025  # seconds between the last change and its check
+        self.rule_docs_url: str | None = None
+        self.trusted = False
+
+    def updated(self, data, trust: bool = False) -> tuple[Settings, list[str]]:
+        """A copy with the keys of ``data`` (a dict from the client) applied, and what was
+        refused (unknown keys, wrong types), to be said to the user."""
+        new = copy.copy(self)
+        problems = []
+        if not isinstance(data, dict):
+            return new, ([] if data is None else ["settings: expected an object"])
+        for key, value in data.items():
+            kind = self.KEYS.get(key)
+            if kind is None:
+                problems.append(f"unknown setting {key!r} (known: {', '.join(self.KEYS)})")
+                continue
+            if not isinstance(value, kind) or (kind is dict and not all(
+                    isinstance(k, str) and isinstance(v, str) for k, v in value.items())) or (
+                    kind is list and not all(isinstance(v, str) for v in value)):
+                problems.append(f"setting {key!r}: wrong type")
+                continue
+            if key == "trusted":
+                if trust:
+                    new.trusted = value
+                else:
+                    problems.append("'trusted' is read from initializationOptions only")
+            elif key == "packages":
+                new.packages = {**self.packages, **value}
+            elif key == "args":
+                new.args = {**self.args, **value}
+            elif key == "allowEnv":
+                new.allow_env = tuple(value)
+            elif key == "memoryLimit":
+                new.memory_mb = value
+            elif key == "debounce":
+                new.debounce = max(0.0, float(value) / 1000)
+            elif key == "ruleDocsUrl":
+                new.rule_docs_url = value
+            else:
+                setattr(new, key, value)
+        return new, problems
+
+
+class Unit:
+    """One package (or loose directory, or lone file) and the last check of each target."""
+
+    __slots__ = ("config", "error", "planned", "reports", "robots", "root", "stale", "targets")
+
+    def __init__(self, root: Path):
+        self.root = root
+        self.planned = False
+        self.config = Config()
+        self.error: str | None = None  # the configuration could not be read
+        self.targets: list[Target] = []
+        self.reports: list[FileReport | None] = []
+        self.robots: list = []
+        self.stale: set[int] = set()
+
+
+class Result(NamedTuple):
+    """What a refresh found: per file (resolved path) its findings, as ``check DIR`` shows
+    them; the reports and robots of every target (navigation, fixes)."""
+
+    diagnostics: dict[str, list[Diagnostic]]
+    reports: tuple[FileReport, ...]
+    robots: tuple
+    notes: tuple[str, ...]
+
+
+def resolved(path) -> str:
+    return str(Path(path).resolve())
+
+
+class Engine:
+    def __init__(self, settings: Settings | None = None):
+        self.settings = settings or Settings()
+        self.buffers: dict[str, str] = {}  # resolved path -> unsaved text
+        self.units: dict[Path, Unit] = {}
+        self.snapshot: dict[Path, Result] = {}  # unit root -> its last result
+
+    # -- options -------------------------------------------------------------------------
+
+    def load_options(self) -> LoadOptions:
+        s = self.settings
+        options = LoadOptions(dict(s.packages), dict(s.args), untrusted=not s.trusted,
+                              allow_env=tuple(s.allow_env))
+        if s.timeout is not None:
+            options.timeout = s.timeout
+        if s.memory_mb is not None:
+            options.memory_mb = s.memory_mb
+        options.overlay = dict(self.buffers)
+        if options.untrusted or "urdftool.cache" in sys.modules:
+            from urdftool import cache
+
+            # untrusted: the mesh cache is read but written only where it is named for it
+            cache.WRITABLE = not options.untrusted or bool(os.environ.get("URDFTOOL_CACHE_DIR"))
+        return options
+
+    def check_options(self, unit: Unit) -> CheckOptions:
+        return CheckOptions(self.load_options(), list(self.settings.select),
+                            list(self.settings.ignore), unit.config)
+
+    def set_settings(self, settings: Settings) -> None:
+        self.settings = settings
+        for unit in self.units.values():  # everything again, with the new options
+            unit.planned = False
+
+    # -- buffers -------------------------------------------------------------------------
+
+    def set_buffer(self, path: str, text: str | None) -> None:
+        """An open buffer's text (None: closed, the disk's text again)."""
+        key = resolved(path)
+        if text is None:
+            self.buffers.pop(key, None)
+        elif self.buffers.get(key) == text:
+            return
+        else:
+            self.buffers[key] = text
+        self.touched(key)
+
+    def touched(self, key: str) -> None:
+        """The file ``key`` (resolved) changed: the checks that read it are stale; a robot file
+        no check knows yet, or a configuration, makes its unit plan again."""
+        name = Path(key).name
+        for unit in self.units.values():
+            root = str(unit.root)
+            inside = key == root or key.startswith(root + os.sep)
+            if not inside and not any(key in self._reads(r) for r in unit.reports
+                                      if r is not None):
+                continue
+            if inside and (name in ("urdftool.toml", "pyproject.toml", "package.xml") or (
+                    name.endswith(ROBOT_SUFFIXES) and key not in self._paths(unit))):
+                unit.planned = False
+                continue
+            for index, report in enumerate(unit.reports):
+                if report is None or key in self._reads(report) or \
+                        resolved(unit.targets[index].path) == key:
+                    unit.stale.add(index)
+
+    @staticmethod
+    def _reads(report: FileReport) -> set[str]:
+        return {resolved(report.path), *report.includes}
+
+    @staticmethod
+    def _paths(unit: Unit) -> set[str]:
+        return {resolved(t.path) for t in unit.targets}
+
+    # -- units ---------------------------------------------------------------------------
+
+    def unit_of(self, path: str) -> Unit:
+        """The unit whose checks read ``path``, or the unit of its package (made now)."""
+        key = resolved(path)
+        for unit in self.units.values():
+            if any(r is not None and key in self._reads(r) for r in unit.reports):
+                return unit
+        root = self._root(Path(key))
+        unit = self.units.get(root)
+        if unit is None:
+            unit = self.units[root] = Unit(root)
+        elif unit.planned and key not in self._paths(unit) and key.endswith(ROBOT_SUFFIXES):
+            unit.planned = False  # a new file of the package
+        return unit
+
+    @staticmethod
+    def _root(file: Path) -> Path:
+        root = package_root(file)
+        if (root / "package.xml").is_file() or (root / "urdftool.toml").is_file() or \
+                (root / "pyproject.toml").is_file():
+            return root
+        count = 0
+        for _, _, names in os.walk(root):
+            count += sum(name.endswith(ROBOT_SUFFIXES) for name in names)
+            if count > MAX_LOOSE_FILES:
+                return file  # a loose file among many: alone
+        return root
+
+    def _plan(self, unit: Unit) -> None:
+        unit.error = None
+        unit.planned = True
+        try:
+            unit.config = load_config(unit.root)
+            unit.targets = plan([str(unit.root)])[0]
+        except ToolError as exc:
+            unit.config, unit.targets, unit.error = Config(), [], str(exc)
+        unit.reports = [None] * len(unit.targets)
+        unit.robots = [None] * len(unit.targets)
+        unit.stale = set(range(len(unit.targets)))
+
+    # -- checking ------------------------------------------------------------------------
+
+    def refresh(self, paths: list[str], everything: bool = False) -> list[Path]:
+        """Check again what is stale in the units of ``paths`` (with ``everything``, the
+        fragments put off too); the roots of the units whose result changed."""
+        changed = []
+        for unit in dict.fromkeys(self.unit_of(p) for p in paths):
+            if not unit.planned:
+                self._plan(unit)
+            if not unit.stale and unit.root in self.snapshot:
+                continue
+            self._check(unit, everything)
+            self.snapshot[unit.root] = self._result(unit)
+            changed.append(unit.root)
+        return changed
+
+    def pending(self) -> list[Path]:
+        """Units with checks put off (fragments that entries read)."""
+        return [u.root for u in self.units.values() if u.stale and u.planned]
+
+    def refresh_pending(self) -> list[Path]:
+        changed = []
+        for unit in self.units.values():
+            if unit.stale and unit.planned:
+                self._check(unit, True)
+                self.snapshot[unit.root] = self._result(unit)
+                changed.append(unit.root)
+        return changed
+
+    def _check(self, unit: Unit, everything: bool) -> None:
+        options = self.check_options(unit)
+        if options.load.untrusted:
+            from urdftool import sandbox
+
+            sandbox.expect([t.path for t in unit.targets], options.load)
+
+        def read_by_entry() -> set[str]:
+            found: set[str] = set()
+            for target, report in zip(unit.targets, unit.reports):
+                if report is not None and (target.configured or report.role == "entry"):
+                    found.update(report.includes)
+            return found
+
+        readers = read_by_entry()
+        later = []
+        for index in sorted(unit.stale):
+            target, report = unit.targets[index], unit.reports[index]
+            if not everything and report is not None and not target.configured and \
+                    report.role != "entry" and resolved(target.path) in readers:
+                later.append(index)
+                continue
+            self._check_one(unit, index, options)
+        readers = read_by_entry()
+        for index in later:  # no longer read by an entry: its own findings are shown
+            if resolved(unit.targets[index].path) not in readers:
+                self._check_one(unit, index, options)
+        unit.stale = {i for i in later if unit.reports[i] is not None
+                      and resolved(unit.targets[i].path) in readers}
+
+    def _check_one(self, unit: Unit, index: int, options: CheckOptions) -> None:
+        target = unit.targets[index]
+        try:
+            report, robot = check_model(target.path, options, target)
+        except ToolError as exc:
+            report, robot = _error_report(target.path, str(exc)), None
+        except Exception as exc:  # noqa: BLE001 - one file's failure is said, the rest goes on
+            report, robot = _error_report(
+                target.path, f"internal error: {type(exc).__name__}: {exc}"), None
+        unit.reports[index] = report
+        unit.robots[index] = robot
+        unit.stale.discard(index)
+
+    def _result(self, unit: Unit) -> Result:
+        """The unit's findings as ``check DIR`` reports them."""
+        if unit.error is not None:
+            return Result({}, (), (), (unit.error,))
+        reports = []
+        for report in unit.reports:
+            if report is None:
+                continue
+            copied = FileReport(report.path, report.robot, list(report.diagnostics),
+                                report.texts)
+            copied.includes, copied.role, copied.args = report.includes, report.role, \
+                report.args
+            reports.append(copied)
+        targets = [t for t, r in zip(unit.targets, unit.reports) if r is not None]
+        shown, notes = classify(targets, reports)
+        shown = merge_repeats(shown)
+        report = Report(shown, notes)
+        if unit.config.baseline is not None:
+            from urdftool.baseline import apply_baseline
+
+            try:
+                apply_baseline(report, unit.config.baseline)
+            except ToolError as exc:
+                report.notes.append(str(exc))
+        by_path: dict[str, list[Diagnostic]] = {}
+        for d in report.diagnostics():
+            by_path.setdefault(resolved(d.path), []).append(d)
+        return Result(by_path, tuple(r for r in unit.reports if r is not None),
+                      tuple(r for r in unit.robots if r is not None), tuple(report.notes))
+
+
+def _error_report(path: str, message: str) -> FileReport:
+    report = FileReport(path, None, [Diagnostic(ERROR_RULE, "error", message, path, None, None,
+                                                None, None)])
+    report.role = "entry"
+    return report

@@ -1,0 +1,370 @@
+"""``urdftool lsp``: the Language Server Protocol over stdio (pygls), a thin front end on
+``urdftool.lsp.engine`` (the checks) and ``urdftool.lsp.navigation`` (hover, definitions...).
+
+Changes are checked in one worker thread, coalesced: a change waits ``Settings.debounce`` for
+the next keystroke, and changes made while a check runs are checked together after it. The
+requests (hover, code actions...) are answered from the last check's reports and robots.
+Every handler survives its own exceptions: logged to the client, answered with null.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import functools
+import os
+import re
+import tempfile
+import traceback
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+from lsprotocol import types as lsp
+from pygls.lsp.server import LanguageServer
+from pygls.uris import from_fs_path, to_fs_path
+
+from urdftool import __version__
+from urdftool.lsp.engine import ERROR_RULE, Engine, Result, Settings, resolved
+
+SEVERITY = {"error": lsp.DiagnosticSeverity.Error, "warning": lsp.DiagnosticSeverity.Warning,
+            "info": lsp.DiagnosticSeverity.Information}
+# rules whose finding is something consumers ignore (faded), or an old way of writing
+UNNECESSARY = frozenset({"joint.fixed-with-axis", "schema.duplicate-element"})
+DEPRECATED = frozenset({"xacro.unprefixed-tag", "xacro.unprefixed-macro-call"})
+CHECK_COMMAND = "urdftool.check"
+_SITE = re.compile(r"^(.*):(\d+)$")
+
+
+class UrdfLanguageServer(LanguageServer):
+    def __init__(self, settings: Settings | None = None):
+        super().__init__("urdftool", __version__,
+                         text_document_sync_kind=lsp.TextDocumentSyncKind.Incremental)
+        self.launch_settings = settings or Settings()
+        self.engine = Engine(self.launch_settings)
+        self.worker = ThreadPoolExecutor(1, thread_name_prefix="urdftool-check")
+        self.changed: set[str] = set()  # paths changed since their last check
+        self.task: asyncio.Task | None = None
+        self.published: dict[Path, set[str]] = {}  # unit root -> URIs given diagnostics
+        self.uris: dict[str, str] = {}  # resolved path -> the URI the client opened it by
+        self.shown: dict[str, list[tuple[lsp.Diagnostic, object]]] = {}  # uri -> last published
+        self._docs: str | None = None  # directory of the rule pages (codeDescription)
+
+    # -- logging ---------------------------------------------------------------------------
+
+    def log(self, message: str, kind=lsp.MessageType.Log) -> None:
+        try:
+            self.window_log_message(lsp.LogMessageParams(kind, message))
+        except Exception:  # noqa: BLE001, S110 - the connection is gone: nothing to tell
+            pass
+
+    def report_server_error(self, error, source):
+        self.log(f"urdftool: {type(error).__name__}: {error}", lsp.MessageType.Error)
+
+    # -- paths -----------------------------------------------------------------------------
+
+    def path_of(self, uri: str) -> str | None:
+        path = to_fs_path(uri)
+        return os.path.abspath(path) if path and uri.startswith("file:") else None
+
+    def uri_of(self, path: str) -> str:
+        key = resolved(path)
+        return self.uris.get(key) or from_fs_path(os.path.abspath(path)) or key
+
+    def text_of(self, path: str) -> str | None:
+        """The text the client has (an open buffer), else the text the last check read."""
+        key = resolved(path)
+        uri = self.uris.get(key)
+        if uri is not None:
+            document = self.workspace.text_documents.get(uri)
+            if document is not None:
+                return document.source
+        for result in self.engine.snapshot.values():
+            for report in result.reports:
+                for name, text in report.texts.items():
+                    if resolved(name) == key:
+                        return text
+        return None
+
+    def units(self, n: int, text: str) -> int:
+        """The client's code units of ``text`` (UTF-16 unless negotiated otherwise)."""
+        return self.workspace.position_codec.client_num_units(text) if n else 0
+
+    def position(self, lines: list[str], line: int, column: int) -> lsp.Position:
+        """(0-based line, 0-based character column) in the client's units."""
+        if line >= len(lines):
+            return lsp.Position(max(line, 0), 0)
+        text = lines[line]
+        column = max(0, min(column, len(text)))
+        return lsp.Position(line, self.units(column, text[:column]))
+
+    def char_column(self, lines: list[str], position: lsp.Position) -> int:
+        """A client position's character column (0-based) in Python characters."""
+        if position.line >= len(lines):
+            return 0
+        text = lines[position.line]
+        units = 0
+        for index, char in enumerate(text):
+            if units >= position.character:
+                return index
+            units += self.units(1, char)
+        return len(text)
+
+    # -- diagnostics -----------------------------------------------------------------------
+
+    def rule_href(self, rule: str) -> str | None:
+        """The page of a rule: ``ruleDocsUrl`` with {rule} replaced, else a Markdown page
+        made from the rule's registration (as ``urdftool rules RULE`` prints it) in a private
+        temporary directory of this server, removed at exit."""
+        if not rule:
+            return None
+        if self.engine.settings.rule_docs_url:
+            return self.engine.settings.rule_docs_url.replace("{rule}", rule)
+        from urdftool.rules import load_all
+
+        found = load_all().get(rule)
+        if found is None:
+            return None
+        if self._docs is None:
+            import atexit
+            import shutil
+
+            self._docs = tempfile.mkdtemp(prefix="urdftool-rules-")
+            atexit.register(shutil.rmtree, self._docs, True)
+        page = Path(self._docs) / f"{rule}.md"
+        if not page.exists():
+            page.write_text(rule_page(found), encoding="utf-8")
+        return page.as_uri()
+
+    def to_lsp(self, d, lines: list[str]) -> lsp.Diagnostic:
+        line = (d.line or 1) - 1
+        text = lines[line] if line < len(lines) else ""
+        if d.column:
+            start = d.column - 1
+            token = re.match(r"</?[\w:.-]*", text[start:])
+            end = start + (token.end() if token and token.end() > 1 else len(text) - start)
+        else:
+            start = len(text) - len(text.lstrip())
+            end = len(text)
+        message = d.message + (f"\nfix: {d.hint}" if d.hint else "")
+        related = []
+        for chain in d.call_sites:
+            site = _SITE.match(chain[0]) if chain else None
+            if site is None:
+                continue
+            where = self.uri_of(site.group(1))
+            more = ", called from ".join(chain[1:])
+            related.append(lsp.DiagnosticRelatedInformation(
+                lsp.Location(where, lsp.Range(lsp.Position(int(site.group(2)) - 1, 0),
+                                              lsp.Position(int(site.group(2)) - 1, 0))),
+                "macro instance called here" + (f", called from {more}" if more else "")))
+        tags = [lsp.DiagnosticTag.Unnecessary] if d.rule in UNNECESSARY else \
+            [lsp.DiagnosticTag.Deprecated] if d.rule in DEPRECATED else None
+        href = self.rule_href(d.rule)
+        return lsp.Diagnostic(
+            range=lsp.Range(self.position(lines, line, start), self.position(lines, line, end)),
+            message=message, severity=SEVERITY.get(d.severity, lsp.DiagnosticSeverity.Error),
+            code=d.rule or None, source="urdftool",
+            code_description=lsp.CodeDescription(href) if href else None,
+            related_information=related or None, tags=tags)
+
+    def publish(self, roots: list[Path]) -> None:
+        for root in roots:
+            result = self.engine.snapshot.get(root)
+            if result is None:
+                continue
+            uris = set()
+            for path, found in result.diagnostics.items():
+                lines = (self.text_of(path) or "").splitlines()
+                uri = self.uri_of(path)
+                pairs = [(self.to_lsp(d, lines), d) for d in found]
+                self.shown[uri] = pairs
+                uris.add(uri)
+                self.text_document_publish_diagnostics(
+                    lsp.PublishDiagnosticsParams(uri, [p for p, _ in pairs]))
+            for uri in self.published.get(root, set()) - uris:
+                self.shown.pop(uri, None)
+                self.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(uri, []))
+            self.published[root] = uris
+            for note in result.notes:
+                self.log(f"urdftool: {note}")
+
+    # -- scheduling ------------------------------------------------------------------------
+
+    def schedule(self, path: str, now: bool = False) -> None:
+        self.changed.add(path)
+        if self.task is None or self.task.done():
+            self.task = asyncio.get_running_loop().create_task(self._run(now))
+
+    async def _run(self, now: bool) -> None:
+        loop = asyncio.get_running_loop()
+        try:
+            while True:
+                if not now and self.engine.settings.debounce:
+                    await asyncio.sleep(self.engine.settings.debounce)
+                now = False
+                if not self.changed:
+                    if not self.engine.pending():
+                        return
+                    roots = await loop.run_in_executor(self.worker,
+                                                       self.engine.refresh_pending)
+                    self.publish(roots)
+                    continue
+                paths = sorted(self.changed)
+                self.changed.clear()
+                texts = {p: self.buffer(p) for p in paths}
+                roots = await loop.run_in_executor(self.worker, self._refresh, texts)
+                self.publish(roots)
+        except Exception as exc:  # noqa: BLE001 - said, and the next change runs again
+            self.log(f"urdftool: check failed: {type(exc).__name__}: {exc}\n"
+                     + traceback.format_exc(), lsp.MessageType.Error)
+
+    def buffer(self, path: str) -> str | None:
+        uri = self.uris.get(resolved(path))
+        document = self.workspace.text_documents.get(uri) if uri else None
+        return document.source if document is not None else None
+
+    def _refresh(self, texts: dict[str, str | None]) -> list[Path]:
+        for path, text in texts.items():
+            self.engine.set_buffer(path, text)
+        return self.engine.refresh(list(texts))
+
+    async def run_in_worker(self, function, *args):
+        return await asyncio.get_running_loop().run_in_executor(self.worker, function, *args)
+
+
+def rule_page(rule) -> str:
+    """A rule's page (Markdown) from its registration."""
+    fix = f", {rule.fix} fix" if rule.fix else ""
+    parts = [f"# {rule.id}", f"*{rule.severity}{fix}*", rule.summary]
+    if rule.doc:
+        parts.append(" ".join(rule.doc.split()))
+    if rule.bad:
+        parts.append(f"Triggers it:\n\n```xml\n{rule.bad}\n```")
+    if rule.good:
+        parts.append(f"Use instead:\n\n```xml\n{rule.good}\n```")
+    return "\n\n".join(parts) + "\n"
+
+
+def guarded(function):
+    """A handler that never takes the server down: its exception is logged to the client and
+    the request answered with null."""
+
+    def said(server, exc) -> None:
+        server.log(f"urdftool: {function.__name__} failed: {type(exc).__name__}: {exc}\n"
+                   + traceback.format_exc(), lsp.MessageType.Error)
+
+    if asyncio.iscoroutinefunction(function):
+        @functools.wraps(function)
+        async def waited(server: UrdfLanguageServer, params):
+            try:
+                return await function(server, params)
+            except Exception as exc:  # noqa: BLE001
+                said(server, exc)
+                return None
+
+        return waited
+
+    @functools.wraps(function)
+    def wrapper(server: UrdfLanguageServer, params):
+        try:
+            return function(server, params)
+        except Exception as exc:  # noqa: BLE001
+            said(server, exc)
+            return None
+
+    return wrapper
+
+
+def make_server(settings: Settings | None = None) -> UrdfLanguageServer:
+    from urdftool.lsp import actions, navigation
+
+    server = UrdfLanguageServer(settings)
+
+    @server.feature(lsp.INITIALIZE)
+    @guarded
+    def initialize(ls: UrdfLanguageServer, params: lsp.InitializeParams):
+        settings, problems = ls.launch_settings.updated(params.initialization_options,
+                                                        trust=True)
+        ls.engine.set_settings(settings)
+        for problem in problems:
+            ls.log(f"urdftool: initializationOptions: {problem}", lsp.MessageType.Warning)
+
+    @server.feature(lsp.WORKSPACE_DID_CHANGE_CONFIGURATION)
+    @guarded
+    def did_change_configuration(ls: UrdfLanguageServer, params):
+        data = params.settings
+        if isinstance(data, dict) and isinstance(data.get("urdftool"), dict):
+            data = data["urdftool"]
+        elif not isinstance(data, dict) or not data:
+            return
+        settings, problems = ls.engine.settings.updated(data)
+        for problem in problems:
+            ls.log(f"urdftool: settings: {problem}", lsp.MessageType.Warning)
+
+        async def again():
+            await ls.run_in_worker(ls.engine.set_settings, settings)
+            for key in list(ls.uris):
+                ls.schedule(key, now=True)
+
+        asyncio.get_running_loop().create_task(again())
+
+    @server.feature(lsp.TEXT_DOCUMENT_DID_OPEN)
+    @guarded
+    def did_open(ls: UrdfLanguageServer, params: lsp.DidOpenTextDocumentParams):
+        path = ls.path_of(params.text_document.uri)
+        if path is not None:
+            ls.uris[resolved(path)] = params.text_document.uri
+            ls.schedule(path, now=True)
+
+    @server.feature(lsp.TEXT_DOCUMENT_DID_CHANGE)
+    @guarded
+    def did_change(ls: UrdfLanguageServer, params: lsp.DidChangeTextDocumentParams):
+        path = ls.path_of(params.text_document.uri)
+        if path is not None:
+            ls.schedule(path)
+
+    @server.feature(lsp.TEXT_DOCUMENT_DID_SAVE)
+    @guarded
+    def did_save(ls: UrdfLanguageServer, params: lsp.DidSaveTextDocumentParams):
+        path = ls.path_of(params.text_document.uri)
+        if path is not None:
+            ls.schedule(path, now=True)
+
+    @server.feature(lsp.TEXT_DOCUMENT_DID_CLOSE)
+    @guarded
+    def did_close(ls: UrdfLanguageServer, params: lsp.DidCloseTextDocumentParams):
+        path = ls.path_of(params.text_document.uri)
+        if path is not None:
+            ls.schedule(path, now=True)  # read from the disk again
+            ls.uris.pop(resolved(path), None)
+
+    @server.feature(lsp.SHUTDOWN)
+    def shutdown(ls: UrdfLanguageServer, params):
+        ls.worker.shutdown(wait=False, cancel_futures=True)
+
+    @server.command(CHECK_COMMAND)
+    async def check_now(ls: UrdfLanguageServer, *uris):
+        """Check the documents named (URIs) now and answer when every check waiting is done:
+        the number of findings published (editors' "check now"; the tests wait on it)."""
+        try:
+            for uri in uris:
+                path = ls.path_of(uri) if isinstance(uri, str) else None
+                if path is not None:
+                    ls.schedule(path, now=True)
+            while ls.task is not None and not ls.task.done():
+                await asyncio.shield(ls.task)
+            return sum(len(found) for found in ls.shown.values())
+        except Exception as exc:  # noqa: BLE001
+            ls.log(f"urdftool: {CHECK_COMMAND} failed: {type(exc).__name__}: {exc}",
+                   lsp.MessageType.Error)
+            return None
+
+    actions.register(server, guarded)
+    navigation.register(server, guarded)
+    return server
+
+
+def serve(settings: Settings | None = None) -> None:
+    make_server(settings).start_io()
+
+
+__all__ = ["ERROR_RULE", "Result", "UrdfLanguageServer", "make_server", "serve"]
