@@ -5,6 +5,8 @@ its "fix all" is ``check --fix``, bad input gives diagnostics and never a crash.
 from __future__ import annotations
 
 import functools
+import math
+import re
 import shutil
 
 import pytest
@@ -149,3 +151,142 @@ async def test_bad_input_is_a_diagnostic_never_a_crash(client, tmp_path):
     await change(client, bad, "", version=3)
     assert client.diagnostics[uri(bad)]
     assert await checked(client) is None
+
+
+# -- hover, definition, references, symbols, completion on xacro robots ----------------------
+
+MANIPULATOR = ROBOTS / "open_manipulator" / "corrected"
+REALSENSE = REAL / "realsense2_description"
+
+
+def _line_of(path, needle: str) -> int:
+    """1-based line of the first line of ``path`` holding ``needle``."""
+    return next(i for i, line in enumerate(path.read_text(encoding="utf-8").split("\n"), 1)
+                if needle in line)
+
+
+def _position(path, needle: str, inside: str | None = None) -> lsp.Position:
+    line = _line_of(path, needle)
+    text = path.read_text(encoding="utf-8").split("\n")[line - 1]
+    return lsp.Position(line - 1, text.index(inside or needle) + 1)
+
+
+async def _hover(client, path, position) -> str | None:
+    found = await client.text_document_hover_async(lsp.HoverParams(
+        lsp.TextDocumentIdentifier(uri(path)), position))
+    return found.contents.value if found is not None else None
+
+
+def _numbers(text: str, label: str) -> list[float]:
+    found = re.search(re.escape(label) + r"\s*([-+0-9.e, \[\]]+)", text)
+    assert found, (label, text)
+    return [float(v) for v in re.findall(r"[-+]?\d[\d.e+-]*", found.group(1))]
+
+
+def _property(directory, name: str) -> float:
+    for path in directory.rglob("*.xacro"):
+        found = re.search(rf'<xacro:property name="{name}" value="([^"]+)"',
+                          path.read_text(encoding="utf-8"))
+        if found:
+            return float(found.group(1))
+    raise AssertionError(name)
+
+
+async def test_hover_on_a_link_gives_mass_inertia_and_the_geometry_bound(client):
+    robot = MANIPULATOR / "open_manipulator.urdf.xacro"
+    await open_file(client, robot)
+    text = await _hover(client, robot, _position(robot, '<link name="base_link">', "base_link"))
+    mass = _property(MANIPULATOR, "bl_mass")
+    assert _numbers(text, "mass:") == [mass]
+    assert f"izz {_property(MANIPULATOR, 'bl_izz')!r}" in text
+    # a cylinder of radius 0.05 about its axis: no point farther than r, so I <= m r^2
+    radius = 0.05
+    assert 'radius="0.05"' in robot.read_text(encoding="utf-8")
+    assert _numbers(text, "allows about z:")[0] == pytest.approx(mass * radius ** 2, rel=1e-12)
+    # the same link hovered where a joint names it
+    assert await _hover(client, robot, _position(robot, '<child link="base_link"/>',
+                                                 "base_link")) == text
+
+
+async def test_hover_on_a_mimic_gives_the_image_of_the_leaders_range(client):
+    robot = MANIPULATOR / "open_manipulator.urdf.xacro"
+    await open_file(client, robot)
+    source = robot.read_text(encoding="utf-8")
+    mimic = re.search(r'<mimic joint="id_7" multiplier="([^"]+)" offset="([^"]+)"', source)
+    text = await _hover(client, robot, _position(robot, mimic.group(0), "mimic"))
+    leader = re.search(r'<joint\s+name="id_7"\s+type="revolute".*?'
+                       r'<limit [^>]*lower="\$\{-pi\}" upper="([^"]+)"', source, re.DOTALL)
+    multiplier, offset = float(mimic.group(1)), float(mimic.group(2))
+    ends = sorted(multiplier * v + offset for v in (-math.pi, float(leader.group(1))))
+    assert _numbers(text, "range [")[:2] == [-math.pi, float(leader.group(1))]
+    assert _numbers(text, "]:") == pytest.approx(ends, rel=1e-12)
+    assert "inside its limits" in text
+
+
+async def test_hover_on_an_expression_gives_its_value_and_definition_finds_the_property(client):
+    robot = MANIPULATOR / "open_manipulator.urdf.xacro"
+    await open_file(client, robot)
+    where = _position(robot, '<mass value="${bl_mass}" />', "bl_mass")
+    assert f"= `{_property(MANIPULATOR, 'bl_mass')!r}`" in await _hover(client, robot, where)
+    found = await client.text_document_definition_async(lsp.DefinitionParams(
+        lsp.TextDocumentIdentifier(uri(robot)), where))
+    masses = MANIPULATOR / "urdf" / "mass_properties.xacro"
+    assert [(f.uri, f.range.start.line + 1) for f in found] == [
+        (uri(masses), _line_of(masses, 'name="bl_mass"'))]
+
+
+async def test_definition_of_a_link_name_and_of_an_include(client):
+    robot = MANIPULATOR / "open_manipulator.urdf.xacro"
+    await open_file(client, robot)
+    found = await client.text_document_definition_async(lsp.DefinitionParams(
+        lsp.TextDocumentIdentifier(uri(robot)),
+        _position(robot, '<child link="base_link"/>', "base_link")))
+    assert [(f.uri, f.range.start.line + 1) for f in found] == [
+        (uri(robot), _line_of(robot, '<link name="base_link">'))]
+    found = await client.text_document_definition_async(lsp.DefinitionParams(
+        lsp.TextDocumentIdentifier(uri(robot)),
+        _position(robot, 'filename="urdf/mass_properties.xacro"', "mass_properties")))
+    assert [f.uri for f in found] == [uri(MANIPULATOR / "urdf" / "mass_properties.xacro")]
+
+
+@pytest.mark.skipif(not REALSENSE.is_dir(), reason="needs ../shared/real-packages")
+async def test_definition_and_hover_of_a_macro_across_find(client):
+    entry = REALSENSE / "urdf" / "test_d435_camera.urdf.xacro"
+    await open_file(client, entry)
+    where = _position(entry, "<xacro:sensor_d435", "sensor_d435")
+    macro_file = REALSENSE / "urdf" / "_d435.urdf.xacro"
+    params = re.search(r'<xacro:macro name="sensor_d435" params="([^"]*)"',
+                       macro_file.read_text(encoding="utf-8")).group(1)
+    assert params in await _hover(client, entry, where)
+    found = await client.text_document_definition_async(lsp.DefinitionParams(
+        lsp.TextDocumentIdentifier(uri(entry)), where))
+    assert [(f.uri, f.range.start.line + 1) for f in found] == [
+        (uri(macro_file), _line_of(macro_file, '<xacro:macro name="sensor_d435"'))]
+    symbols = await client.text_document_document_symbol_async(lsp.DocumentSymbolParams(
+        lsp.TextDocumentIdentifier(uri(macro_file))))
+    assert "sensor_d435" in {s.name for s in symbols}
+
+
+async def test_completion_of_link_names_is_the_expanded_robots_links(client):
+    import xacro
+    from lxml import etree
+
+    robot = MANIPULATOR / "open_manipulator.urdf.xacro"
+    await open_file(client, robot)
+    found = await client.text_document_completion_async(lsp.CompletionParams(
+        lsp.TextDocumentIdentifier(uri(robot)),
+        _position(robot, '<child link="base_link"/>', "base_link")))
+    # the links of the robot as plain xacro expands it
+    document = xacro.process_file(str(robot), mappings={})
+    links = {e.get("name") for e in etree.fromstring(document.toxml().encode()).iter("link")}
+    assert {item.label for item in found.items} == links
+
+
+async def test_nothing_at_a_position_is_null(client):
+    robot = MANIPULATOR / "open_manipulator.urdf.xacro"
+    await open_file(client, robot)
+    comment = _position(robot, "<!-- World -->", "World")
+    assert await _hover(client, robot, comment) is None
+    assert await client.text_document_definition_async(lsp.DefinitionParams(
+        lsp.TextDocumentIdentifier(uri(robot)), comment)) is None
+    assert await _hover(client, robot, lsp.Position(100000, 3)) is None

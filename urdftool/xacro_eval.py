@@ -180,6 +180,7 @@ _ALLOWED_NODES = (
 _NODE_WORDS = {ast.Lambda: "a lambda", ast.NamedExpr: "an assignment expression (:=)",
                ast.Await: "await", ast.Yield: "yield", ast.YieldFrom: "yield from"}
 _PARSED: dict[str, ast.Expression] = {}
+_YAML_DATA: dict[str, object] = {}  # YAML text (without tags) -> its data, checked
 
 
 def check_expression(expression: str) -> ast.Expression:
@@ -948,6 +949,12 @@ class Interpreter:
         if len(text) > MAX_YAML_CHARS:  # YAML's scanner is pure Python: ~1 s per MB
             raise LimitExceeded(f"{filename}: a YAML file of more than {MAX_YAML_CHARS >> 20} "
                                 "MB")
+        import copy
+
+        known = _YAML_DATA.get(text)
+        if known is not None:  # parsed before (the language server expands on every edit)
+            xacro.all_includes.append(path)
+            return xacro.YamlListWrapper.wrap(copy.deepcopy(known))
         xacro.filestack.append(path)
         try:
             import yaml
@@ -959,6 +966,10 @@ class Interpreter:
             xacro.filestack.pop()
             xacro.all_includes.append(path)
         _check_yaml(data, self.tick)
+        if "!" not in text:  # no unit tags: the data do not depend on the expansion's symbols
+            if len(_YAML_DATA) >= 64:
+                _YAML_DATA.clear()
+            _YAML_DATA[text] = copy.deepcopy(data)  # expressions may change what they get
         return xacro.YamlListWrapper.wrap(data)
 
     def _yaml_loader(self):

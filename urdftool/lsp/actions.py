@@ -37,7 +37,7 @@ def checked_text(server, path: str) -> str | None:
     """The text of ``path`` that the last check read."""
     key = resolved(path)
     for result in server.engine.snapshot.values():
-        for report in result.reports:
+        for report, _ in result.checks:
             for name, text in report.texts.items():
                 if resolved(name) == key:
                     return text

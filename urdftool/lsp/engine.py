@@ -17,6 +17,7 @@ whole after each refresh, for the requests answered meanwhile.
 from __future__ import annotations
 
 import copy
+import functools
 import os
 import sys
 from pathlib import Path
@@ -116,13 +117,19 @@ class Result(NamedTuple):
     them; the reports and robots of every target (navigation, fixes)."""
 
     diagnostics: dict[str, list[Diagnostic]]
-    reports: tuple[FileReport, ...]
-    robots: tuple
+    checks: tuple[tuple[FileReport, object], ...]  # (report, robot or None) per target
     notes: tuple[str, ...]
 
 
-def resolved(path) -> str:
+@functools.lru_cache(maxsize=8192)
+def _resolved(path: str) -> str:
     return str(Path(path).resolve())
+
+
+def resolved(path) -> str:
+    """A file's resolved path (memoised: asked for every file of every check on each edit;
+    a symlink changed during a session is seen after a restart)."""
+    return _resolved(os.fspath(path))
 
 
 class Engine:
@@ -315,7 +322,7 @@ class Engine:
     def _result(self, unit: Unit) -> Result:
         """The unit's findings as ``check DIR`` reports them."""
         if unit.error is not None:
-            return Result({}, (), (), (unit.error,))
+            return Result({}, (), (unit.error,))
         reports = []
         for report in unit.reports:
             if report is None:
@@ -339,8 +346,8 @@ class Engine:
         by_path: dict[str, list[Diagnostic]] = {}
         for d in report.diagnostics():
             by_path.setdefault(resolved(d.path), []).append(d)
-        return Result(by_path, tuple(r for r in unit.reports if r is not None),
-                      tuple(r for r in unit.robots if r is not None), tuple(report.notes))
+        return Result(by_path, tuple((r, robot) for r, robot in zip(unit.reports, unit.robots)
+                                     if r is not None), tuple(report.notes))
 
 
 def _error_report(path: str, message: str) -> FileReport:

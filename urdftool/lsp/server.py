@@ -31,6 +31,8 @@ SEVERITY = {"error": lsp.DiagnosticSeverity.Error, "warning": lsp.DiagnosticSeve
 UNNECESSARY = frozenset({"joint.fixed-with-axis", "schema.duplicate-element"})
 DEPRECATED = frozenset({"xacro.unprefixed-tag", "xacro.unprefixed-macro-call"})
 CHECK_COMMAND = "urdftool.check"
+# seconds without a change before the checks put off (fragments an entry reads) are run
+PENDING_DELAY = 0.5
 _SITE = re.compile(r"^(.*):(\d+)$")
 
 
@@ -43,6 +45,7 @@ class UrdfLanguageServer(LanguageServer):
         self.worker = ThreadPoolExecutor(1, thread_name_prefix="urdftool-check")
         self.changed: set[str] = set()  # paths changed since their last check
         self.task: asyncio.Task | None = None
+        self.running = False  # a check of changed files is under way
         self.published: dict[Path, set[str]] = {}  # unit root -> URIs given diagnostics
         self.uris: dict[str, str] = {}  # resolved path -> the URI the client opened it by
         self.shown: dict[str, list[tuple[lsp.Diagnostic, object]]] = {}  # uri -> last published
@@ -78,7 +81,7 @@ class UrdfLanguageServer(LanguageServer):
             if document is not None:
                 return document.source
         for result in self.engine.snapshot.values():
-            for report in result.reports:
+            for report, _ in result.checks:
                 for name, text in report.texts.items():
                     if resolved(name) == key:
                         return text
@@ -172,7 +175,13 @@ class UrdfLanguageServer(LanguageServer):
             if result is None:
                 continue
             uris = set()
-            for path, found in result.diagnostics.items():
+            found_in = dict(result.diagnostics)
+            for report, _ in result.checks:  # open files the checks read: a fresh (maybe
+                for name in (report.path, *report.includes):  # empty) set after each check
+                    key = resolved(name)
+                    if key in self.uris:
+                        found_in.setdefault(key, [])
+            for path, found in found_in.items():
                 lines = (self.text_of(path) or "").splitlines()
                 uri = self.uri_of(path)
                 pairs = [(self.to_lsp(d, lines), d) for d in found]
@@ -204,6 +213,9 @@ class UrdfLanguageServer(LanguageServer):
                 if not self.changed:
                     if not self.engine.pending():
                         return
+                    await asyncio.sleep(PENDING_DELAY)  # typing goes on: the entries first
+                    if self.changed:
+                        continue
                     roots = await loop.run_in_executor(self.worker,
                                                        self.engine.refresh_pending)
                     self.publish(roots)
@@ -211,8 +223,12 @@ class UrdfLanguageServer(LanguageServer):
                 paths = sorted(self.changed)
                 self.changed.clear()
                 texts = {p: self.buffer(p) for p in paths}
-                roots = await loop.run_in_executor(self.worker, self._refresh, texts)
-                self.publish(roots)
+                self.running = True
+                try:
+                    roots = await loop.run_in_executor(self.worker, self._refresh, texts)
+                    self.publish(roots)
+                finally:
+                    self.running = False
         except Exception as exc:  # noqa: BLE001 - said, and the next change runs again
             self.log(f"urdftool: check failed: {type(exc).__name__}: {exc}\n"
                      + traceback.format_exc(), lsp.MessageType.Error)
@@ -350,8 +366,8 @@ def make_server(settings: Settings | None = None) -> UrdfLanguageServer:
                 path = ls.path_of(uri) if isinstance(uri, str) else None
                 if path is not None:
                     ls.schedule(path, now=True)
-            while ls.task is not None and not ls.task.done():
-                await asyncio.shield(ls.task)
+            while ls.changed or ls.running:  # (not the checks put off: they change no
+                await asyncio.sleep(0.005)  # finding shown, the entries' reports hold them)
             return sum(len(found) for found in ls.shown.values())
         except Exception as exc:  # noqa: BLE001
             ls.log(f"urdftool: {CHECK_COMMAND} failed: {type(exc).__name__}: {exc}",

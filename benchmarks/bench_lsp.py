@@ -1,0 +1,178 @@
+"""Latency of ``urdftool lsp`` while typing: the server started as an editor starts it (stdio),
+a real arm description opened, then edits sent one at a time, as a person types, each timed
+from its ``didChange`` to the ``publishDiagnostics`` of the edited file. Prints the first
+check's time and p50/p95/max over the edits.
+
+    python benchmarks/bench_lsp.py [PACKAGE_DIR] [--edits N] [--interval S]
+
+Default PACKAGE_DIR: Universal_Robots_ROS2_Description from ../shared/realworld-dev, copied
+to a temporary directory with its large meshes restored from a mirror of the repository when
+one is given (``--mirror GIT_DIR``; ``fetch github:UniversalRobots/Universal_Robots_ROS2_Description``
+makes one) and an urdftool.toml naming ur.urdf.xacro's arguments (name:=ur ur_type:=ur5e), as
+its MANIFEST entry does. Edits alternate between the entry (an argument's default) and the
+macro file it includes (a joint origin in the macro body): both re-expand the arm.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from lsprotocol import types as lsp
+from pygls.lsp.client import LanguageClient
+
+ROOT = Path(__file__).resolve().parent.parent
+CORPUS = ROOT.parent / "shared" / "realworld-dev"
+UR = "UniversalRobots+Universal_Robots_ROS2_Description"
+
+
+def summary(seconds: list[float]) -> str:
+    ms = sorted(v * 1000 for v in seconds)
+    p95 = ms[min(len(ms) - 1, round(0.95 * (len(ms) - 1)))]
+    return f"p50 {statistics.median(ms):.0f} ms, p95 {p95:.0f} ms, max {ms[-1]:.0f} ms"
+
+
+def cpu_seconds(pid: int | None) -> float | None:
+    """User + system CPU seconds of a process (Linux /proc), or None."""
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    except (OSError, IndexError, ValueError, TypeError):
+        return None
+
+
+def prepare(mirror: str | None) -> Path:
+    """The UR description in a temporary directory, meshes restored when ``mirror`` is a git
+    directory of the upstream repository."""
+    corpus = CORPUS if CORPUS.is_dir() else ROOT.parent.parent / "shared" / "realworld-dev"
+    target = Path(tempfile.mkdtemp(prefix="bench-lsp-")) / "ur_description"
+    shutil.copytree(corpus / "src" / UR, target)
+    for dirpath, _, files in os.walk(target):
+        os.chmod(dirpath, 0o755)
+        for name in files:
+            os.chmod(os.path.join(dirpath, name), 0o644)
+    restored = 0
+    if mirror:
+        for row in (corpus / "LARGE_FILES.txt").read_text(encoding="utf-8").splitlines():
+            parts = row.split()
+            if len(parts) != 4 or parts[0] != UR:
+                continue
+            _, commit, path, _ = parts
+            dest = target / path
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            done = subprocess.run(["git", "--git-dir", mirror, "show", f"{commit}:{path}"],
+                                  capture_output=True, check=False)
+            if done.returncode == 0:
+                dest.write_bytes(done.stdout)
+                restored += 1
+    (target / "urdftool.toml").write_text(
+        '[[entries]]\nfile = "urdf/ur.urdf.xacro"\nargs = { name = "ur", ur_type = "ur5e" }\n',
+        encoding="utf-8")
+    print(f"package: {target} ({restored} large meshes restored"
+          + ("" if restored else ": mesh rules see the corpus's missing files") + ")")
+    return target
+
+
+async def run(package: Path, edits: int, interval: float, trusted: bool) -> None:
+    client = LanguageClient("bench-lsp", "1")
+    published: dict[str, list[float]] = {}
+    arrived = asyncio.Event()
+
+    @client.feature(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    def on_diagnostics(params: lsp.PublishDiagnosticsParams):
+        published.setdefault(params.uri, []).append(time.perf_counter())
+        arrived.set()
+
+    @client.feature(lsp.WINDOW_LOG_MESSAGE)
+    def on_log(params):
+        pass
+
+    await client.start_io(sys.executable, "-m", "urdftool", "lsp",
+                          env={**os.environ, "PYTHONPATH": str(ROOT)})
+    await client.initialize_async(lsp.InitializeParams(
+        capabilities=lsp.ClientCapabilities(), initialization_options={"trusted": trusted}))
+    client.initialized(lsp.InitializedParams())
+    entry = package / "urdf" / "ur.urdf.xacro"
+    macro = package / "urdf" / "ur_macro.xacro"
+    texts = {p: p.read_text(encoding="utf-8") for p in (entry, macro)}
+    uris = {p: p.resolve().as_uri() for p in texts}
+
+    async def wait_for(uri: str, since: float) -> float:
+        while True:
+            times = [t for t in published.get(uri, []) if t > since]
+            if times:
+                return times[0] - since
+            arrived.clear()
+            await asyncio.wait_for(arrived.wait(), 120)
+
+    start = time.perf_counter()
+    for path in (entry, macro):
+        client.text_document_did_open(lsp.DidOpenTextDocumentParams(
+            lsp.TextDocumentItem(uris[path], "xml", 1, texts[path])))
+    first = await wait_for(uris[entry], start)
+    await wait_for(uris[macro], start)
+    count = sum(1 for u in published)
+    print(f"first check (open, cold in this process): {first * 1000:.0f} ms, "
+          f"{count} file(s) published")
+    # what changes: an argument default in the entry, a joint origin in the macro body
+    argument = re.search(r'(<xacro:arg name="safety_k_position" default=")([^"]*)"',
+                         texts[entry])
+    origin = re.search(r'(<origin xyz="0 0 )([^"]*)(" rpy="0 0 0"\s*/>)', texts[macro])
+    assert argument and origin, "the UR files changed: pick other edit places"
+    latencies, cpu = [], []
+    pid = client._server.pid if getattr(client, "_server", None) is not None else None
+    versions = {p: 1 for p in texts}
+    for index in range(edits):
+        path = entry if index % 2 == 0 else macro
+        found = argument if path is entry else origin
+        value = f"{20 + index}" if path is entry else f"{index * 0.001:g}"
+        text = texts[path][:found.start(2)] + value + texts[path][found.end(2):]
+        versions[path] += 1
+        await asyncio.sleep(interval)
+        used = cpu_seconds(pid)
+        sent = time.perf_counter()
+        client.text_document_did_change(lsp.DidChangeTextDocumentParams(
+            lsp.VersionedTextDocumentIdentifier(version=versions[path], uri=uris[path]),
+            [lsp.TextDocumentContentChangeWholeDocument(text=text)]))
+        latencies.append(await wait_for(uris[path], sent))
+        if used is not None:
+            cpu.append(cpu_seconds(pid) - used)
+    mode = "trusted" if trusted else "untrusted: sandboxed reader"
+    print(f"change -> diagnostics over {len(latencies)} edits (interval "
+          f"{interval * 1000:.0f} ms, {mode}): {summary(latencies)}")
+    if cpu:
+        print(f"server CPU per edit (load-independent; the sandboxed reader's not counted): "
+              f"{summary(cpu)}")
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    print(f"load average during the run: {load:.1f} on {os.cpu_count()} CPUs")
+    await client.shutdown_async(None)
+    client.exit(None)
+    await client.stop()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("package", nargs="?", help="a package directory laid out as the UR "
+                        "description (default: a copy of the corpus's)")
+    parser.add_argument("--mirror", help="git directory of the upstream repository (meshes)")
+    parser.add_argument("--edits", type=int, default=40)
+    parser.add_argument("--interval", type=float, default=0.3,
+                        help="seconds between the diagnostics of an edit and the next edit")
+    parser.add_argument("--untrusted", action="store_true",
+                        help="the default of an editor that says nothing of trust")
+    options = parser.parse_args()
+    package = Path(options.package) if options.package else prepare(options.mirror)
+    asyncio.run(run(package, options.edits, options.interval, not options.untrusted))
+
+
+if __name__ == "__main__":
+    main()
