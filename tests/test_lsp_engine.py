@@ -68,11 +68,11 @@ def test_yaml_data_changed_by_an_expression_is_not_shared_between_expansions(tmp
     (tmp_path / "macros.xacro").write_text(MACROS, encoding="utf-8")
     (tmp_path / "data.yaml").write_text("length: 2\nitems: [1, 2]\n", encoding="utf-8")
     (tmp_path / "robot.urdf.xacro").write_text(ENTRY, encoding="utf-8")
-    from urdftool.model import build_robot
-    from urdftool.source import LoadOptions, load
-
     import xacro
     from lxml import etree
+
+    from urdftool.model import build_robot
+    from urdftool.source import LoadOptions, load
 
     names = []
     for _ in range(3):
