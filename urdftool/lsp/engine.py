@@ -44,6 +44,7 @@ class Settings:
     KEYS: ClassVar[dict] = {"packages": dict, "args": dict, "select": list, "ignore": list, "allowEnv": list,
             "timeout": (int, float), "memoryLimit": int, "debounce": (int, float),
             "ruleDocsUrl": str, "trusted": bool}
+    CLIENT_KEYS: ClassVar[frozenset] = frozenset({"path"})  # the editor's own (executable)
 
     def __init__(self):
         self.packages: dict[str, str] = {}
@@ -65,6 +66,8 @@ class Settings:
         if not isinstance(data, dict):
             return new, ([] if data is None else ["settings: expected an object"])
         for key, value in data.items():
+            if key in self.CLIENT_KEYS:
+                continue
             kind = self.KEYS.get(key)
             if kind is None:
                 problems.append(f"unknown setting {key!r} (known: {', '.join(self.KEYS)})")
