@@ -67,16 +67,22 @@ def published(client, under) -> set[tuple]:
     return found
 
 
-def check_json(*args: str, cwd=None) -> set[tuple]:
-    """The same tuples from ``urdftool check --format json`` (a separate process: the CLI as a
-    user runs it). A diagnostic without a column is at the first non-blank of its line in the
-    editor; without a line, at the first line."""
+def check_report(*args: str, cwd=None) -> dict:
+    """``urdftool check --format json``'s report (a separate process: the CLI as a user runs
+    it)."""
     done = subprocess.run([sys.executable, "-m", "urdftool", "check", "--format", "json", *args],
                           capture_output=True, text=True, cwd=cwd or ROOT,
                           env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"}, check=False)
     assert done.returncode in (0, 1), done.stderr
+    return json.loads(done.stdout)
+
+
+def check_json(*args: str, cwd=None) -> set[tuple]:
+    """The tuples of ``published`` from ``urdftool check --format json``. A diagnostic without
+    a column is at the first non-blank of its line in the editor; without a line, at the first
+    line."""
     found = set()
-    for file in json.loads(done.stdout)["files"]:
+    for file in check_report(*args, cwd=cwd)["files"]:
         for d in file["diagnostics"]:
             path = Path(cwd or ROOT, d["path"]).resolve()
             line = d["line"] or 1

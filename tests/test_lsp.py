@@ -21,6 +21,7 @@ from tests.lsp_client import (
     change,
     check_fix,
     check_json,
+    check_report,
     checked,
     open_file,
     published,
@@ -290,3 +291,44 @@ async def test_nothing_at_a_position_is_null(client):
     assert await client.text_document_definition_async(lsp.DefinitionParams(
         lsp.TextDocumentIdentifier(uri(robot)), comment)) is None
     assert await _hover(client, robot, lsp.Position(100000, 3)) is None
+
+
+async def test_macro_instances_are_related_information(client):
+    """A finding in a macro body carries its call sites (`check`'s ``call_sites``) as related
+    information, each at the call's file and line."""
+    directory = ROBOTS / "smartcar" / "published"
+    await open_file(client, first_robot_file(directory))
+    expected = {}
+    for file in check_report("--trusted", str(directory))["files"]:
+        for d in file["diagnostics"]:
+            if d.get("call_sites"):
+                sites = sorted((str((ROOT / chain[0].rsplit(":", 1)[0]).resolve()),
+                                int(chain[0].rsplit(":", 1)[1])) for chain in d["call_sites"])
+                expected[(d["rule"], str((ROOT / d["path"]).resolve()), d["line"])] = sites
+    assert expected
+    got = {}
+    for key, found in client.diagnostics.items():
+        for d in found:
+            if d.related_information:
+                got[(d.code, key.removeprefix("file://"), d.range.start.line + 1)] = sorted(
+                    (r.location.uri.removeprefix("file://"), r.location.range.start.line + 1)
+                    for r in d.related_information)
+    assert {k: v for k, v in got.items() if k[1].startswith(str(directory))} == expected
+
+
+async def test_columns_are_utf16_code_units(client, tmp_path):
+    """LSP positions count UTF-16 code units (the default encoding): a character outside the
+    BMP before a finding counts two."""
+    robot = tmp_path / "wide" / "robot.urdf"
+    robot.parent.mkdir()
+    robot.write_text('<robot name="r">\n  <link name="a"/>\n  <link name="b"/>\n'
+                     '  <!-- \U0001F916 arm --><joint name="j" type="revolute"><parent link="a"/>'
+                     '<child link="b"/><axis xyz="0 0 1"/></joint>\n</robot>\n',
+                     encoding="utf-8")
+    await open_file(client, robot)
+    line = robot.read_text(encoding="utf-8").split("\n")[3]
+    column = line.index("<joint")
+    found = [d for d in client.diagnostics[uri(robot)] if d.code == "joint.missing-limit"]
+    assert [(d.range.start.line, d.range.start.character) for d in found] == [
+        (3, len(line[:column].encode("utf-16-le")) // 2)]
+    assert found[0].range.start.character == column + 1

@@ -13,7 +13,7 @@ from lsprotocol import types as lsp
 from pytest_lsp import LanguageClient
 
 from tests.conftest import ROBOTS
-from tests.lsp_client import SERVER, check_json, open_file, published, start, uri
+from tests.lsp_client import SERVER, check_json, checked, open_file, published, start, uri
 
 MARKER = "SECRET_7f3a"
 ENTRY = """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
@@ -52,21 +52,23 @@ def _everything(client) -> str:
     return "\n".join(parts)
 
 
-@pytest_lsp.fixture(config=SERVER)
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
+
+@pytest_lsp.fixture(config=SERVER, scope="module", loop_scope="module")
 async def untrusted(lsp_client: LanguageClient):
     await start(lsp_client, trusted=None)
     yield
     await lsp_client.shutdown_session()
 
 
-@pytest_lsp.fixture(config=SERVER)
+@pytest_lsp.fixture(config=SERVER, scope="module", loop_scope="module")
 async def trusted(lsp_client: LanguageClient):
     await start(lsp_client, trusted=True, select=["xacro", "inertia", "structure"])
     yield
     await lsp_client.shutdown_session()
 
 
-@pytest.mark.asyncio
 async def test_a_workspace_is_untrusted_unless_the_client_says_so(untrusted, tmp_path):
     package, robot = _layout(tmp_path)
     await open_file(untrusted, robot)
@@ -86,7 +88,6 @@ async def test_a_workspace_is_untrusted_unless_the_client_says_so(untrusted, tmp
     assert found is None
 
 
-@pytest.mark.asyncio
 async def test_trusted_reads_as_check_trusted_with_the_options_given(trusted, tmp_path):
     package, robot = _layout(tmp_path)
     await open_file(trusted, robot)
@@ -98,8 +99,24 @@ async def test_trusted_reads_as_check_trusted_with_the_options_given(trusted, tm
             for d in found} <= {"xacro", "inertia", "structure"}
 
 
-@pytest.mark.asyncio
 async def test_untrusted_seed_is_check_untrusted(untrusted):
     directory = ROBOTS / "dual_arm" / "published"
     await open_file(untrusted, next(directory.glob("*.xacro")))
     assert published(untrusted, directory) == check_json("--untrusted", str(directory))
+
+
+async def test_workspace_settings_change_the_rules(trusted, tmp_path):
+    """The ``urdftool`` section of the workspace settings (here pulled with
+    workspace/configuration after a didChangeConfiguration) applies to the next checks."""
+    package, robot = _layout(tmp_path)
+    await open_file(trusted, robot)
+    assert any(d.code.startswith("inertia.") for d in trusted.diagnostics[uri(robot)]) or any(
+        d.code.startswith("inertia.") for found in trusted.diagnostics.values() for d in found)
+    trusted.set_configuration({"select": ["structure"]}, section="urdftool")
+    trusted.workspace_did_change_configuration(lsp.DidChangeConfigurationParams(settings=None))
+    await checked(trusted)
+    expected = check_json("--trusted", "--select", "structure", str(package))
+    assert published(trusted, tmp_path) == expected
+    trusted.set_configuration({"select": ["xacro", "inertia", "structure"]}, section="urdftool")
+    trusted.workspace_did_change_configuration(lsp.DidChangeConfigurationParams(settings=None))
+    await checked(trusted)

@@ -46,6 +46,7 @@ class UrdfLanguageServer(LanguageServer):
         self.changed: set[str] = set()  # paths changed since their last check
         self.task: asyncio.Task | None = None
         self.running = False  # a check of changed files is under way
+        self.configuring = 0  # settings changes being applied
         self.published: dict[Path, set[str]] = {}  # unit root -> URIs given diagnostics
         self.uris: dict[str, str] = {}  # resolved path -> the URI the client opened it by
         self.shown: dict[str, list[tuple[lsp.Diagnostic, object]]] = {}  # uri -> last published
@@ -306,22 +307,30 @@ def make_server(settings: Settings | None = None) -> UrdfLanguageServer:
 
     @server.feature(lsp.WORKSPACE_DID_CHANGE_CONFIGURATION)
     @guarded
-    def did_change_configuration(ls: UrdfLanguageServer, params):
-        data = params.settings
+    async def did_change_configuration(ls: UrdfLanguageServer, params):
+        ls.configuring += 1
+        try:
+            await _configure(ls, params.settings)
+        finally:
+            ls.configuring -= 1
+
+    async def _configure(ls: UrdfLanguageServer, data):
         if isinstance(data, dict) and isinstance(data.get("urdftool"), dict):
             data = data["urdftool"]
-        elif not isinstance(data, dict) or not data:
+        elif ls.client_capabilities.workspace is not None and \
+                ls.client_capabilities.workspace.configuration:
+            # the pull model (settings null, or another tool's): ask for our section
+            answer = await ls.workspace_configuration_async(lsp.ConfigurationParams(
+                [lsp.ConfigurationItem(section="urdftool")]))
+            data = answer[0] if answer else None
+        if not isinstance(data, dict) or not data:
             return
         settings, problems = ls.engine.settings.updated(data)
         for problem in problems:
             ls.log(f"urdftool: settings: {problem}", lsp.MessageType.Warning)
-
-        async def again():
-            await ls.run_in_worker(ls.engine.set_settings, settings)
-            for key in list(ls.uris):
-                ls.schedule(key, now=True)
-
-        asyncio.get_running_loop().create_task(again())
+        await ls.run_in_worker(ls.engine.set_settings, settings)
+        for key in list(ls.uris):
+            ls.schedule(key, now=True)
 
     @server.feature(lsp.TEXT_DOCUMENT_DID_OPEN)
     @guarded
@@ -366,7 +375,7 @@ def make_server(settings: Settings | None = None) -> UrdfLanguageServer:
                 path = ls.path_of(uri) if isinstance(uri, str) else None
                 if path is not None:
                     ls.schedule(path, now=True)
-            while ls.changed or ls.running:  # (not the checks put off: they change no
+            while ls.changed or ls.running or ls.configuring:  # (not the checks put off: they change no
                 await asyncio.sleep(0.005)  # finding shown, the entries' reports hold them)
             return sum(len(found) for found in ls.shown.values())
         except Exception as exc:  # noqa: BLE001
