@@ -81,3 +81,88 @@ def test_yaml_data_changed_by_an_expression_is_not_shared_between_expansions(tmp
     document = xacro.process_file(str(tmp_path / "robot.urdf.xacro"), mappings={})
     plain = sorted(e.get("name") for e in etree.fromstring(document.toxml().encode()).iter("link"))
     assert names == [plain] * 3 and "n2" in plain
+
+
+def _frame(message: dict) -> bytes:
+    import json
+
+    body = json.dumps(message).encode()
+    return b"Content-Length: %d\r\n\r\n" % len(body) + body
+
+
+def _messages(data: bytes) -> list[dict]:
+    import json
+
+    found = []
+    while data:
+        head, _, rest = data.partition(b"\r\n\r\n")
+        length = int(head.split(b"Content-Length:")[1].split(b"\r\n")[0])
+        found.append(json.loads(rest[:length]))
+        data = rest[length:]
+    return found
+
+
+def test_the_server_answers_bad_requests_and_exits_cleanly(tmp_path):
+    """Over raw stdio: requests about nothing answer null, a request that fails inside is
+    answered (logged to the client) and the server goes on; shutdown then exit ends the
+    process with status 0 and nothing on stderr but notes."""
+    import subprocess
+    import sys
+
+    from tests.conftest import ROOT
+
+    robot = tmp_path / "r.urdf"
+    robot.write_text("<robot name='r'><link name='a'/></robot>\n", encoding="utf-8")
+    doc = robot.resolve().as_uri()
+    nowhere = (tmp_path / "missing.urdf").resolve().as_uri()
+    position = {"line": 0, "character": 3}
+    requests = [
+        {"jsonrpc": "2.0", "id": 1, "method": "initialize",
+         "params": {"capabilities": {}, "initializationOptions": {"trusted": True}}},
+        {"jsonrpc": "2.0", "method": "initialized", "params": {}},
+        {"jsonrpc": "2.0", "id": 2, "method": "textDocument/hover",
+         "params": {"textDocument": {"uri": nowhere}, "position": position}},
+        {"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {
+            "uri": doc, "languageId": "xml", "version": 1, "text": "\x00\x01 not xml"}}},
+        {"jsonrpc": "2.0", "id": 3, "method": "workspace/executeCommand",
+         "params": {"command": "urdftool.check", "arguments": [doc]}},
+        {"jsonrpc": "2.0", "id": 4, "method": "textDocument/definition",
+         "params": {"textDocument": {"uri": doc}, "position": {"line": 99, "character": 0}}},
+        {"jsonrpc": "2.0", "id": 5, "method": "textDocument/codeAction",
+         "params": {"textDocument": {"uri": "untitled:Untitled-1"},
+                    "range": {"start": position, "end": position},
+                    "context": {"diagnostics": []}}},
+    ]
+    server = subprocess.Popen([sys.executable, "-m", "urdftool", "lsp"], stdin=subprocess.PIPE,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    try:
+        server.stdin.write(b"".join(_frame(m) for m in requests))
+        server.stdin.flush()
+        received = []
+        while {1, 2, 3, 4, 5} - {m.get("id") for m in received}:
+            head = b""
+            while not head.endswith(b"\r\n\r\n"):
+                byte = server.stdout.read(1)
+                assert byte, server.stderr.read().decode()
+                head += byte
+            length = int(head.split(b"Content-Length:")[1].split(b"\r\n")[0])
+            received.extend(_messages(head + server.stdout.read(length)))
+        rest, errors = server.communicate(
+            _frame({"jsonrpc": "2.0", "id": 6, "method": "shutdown"})
+            + _frame({"jsonrpc": "2.0", "method": "exit"}), timeout=60)
+    finally:
+        if server.poll() is None:
+            server.kill()
+    received.extend(_messages(rest))
+    assert server.returncode == 0, errors.decode()
+    assert b"Traceback" not in errors, errors.decode()
+    replies = {m["id"]: m for m in received if "id" in m}
+    assert sorted(replies) == [1, 2, 3, 4, 5, 6]
+    assert all("error" not in reply for reply in replies.values()), replies
+    assert replies[2]["result"] is None and replies[4]["result"] is None
+    assert replies[5]["result"] in (None, [])
+    diagnostics = [m for m in received
+                   if m.get("method") == "textDocument/publishDiagnostics"
+                   and m["params"]["uri"] == doc]
+    assert diagnostics and diagnostics[-1]["params"]["diagnostics"], diagnostics

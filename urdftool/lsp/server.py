@@ -365,6 +365,14 @@ def make_server(settings: Settings | None = None) -> UrdfLanguageServer:
     @server.feature(lsp.SHUTDOWN)
     def shutdown(ls: UrdfLanguageServer, params):
         ls.worker.shutdown(wait=False, cancel_futures=True)
+        # the requests still running are cancelled here, over a copy: pygls 2.1 cancels them
+        # while iterating the dict their callbacks remove them from (a RuntimeError and a
+        # traceback on stderr when a request is pending at shutdown)
+        protocol = ls.protocol
+        pending = getattr(protocol, "_request_futures", {})
+        for msg_id, future in list(pending.items()):
+            if msg_id != protocol.msg_id and not future.done():
+                future.cancel()
 
     @server.command(CHECK_COMMAND)
     async def check_now(ls: UrdfLanguageServer, *uris):
