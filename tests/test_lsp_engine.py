@@ -103,9 +103,9 @@ def _messages(data: bytes) -> list[dict]:
 
 
 def test_the_server_answers_bad_requests_and_exits_cleanly(tmp_path):
-    """Over raw stdio: requests about nothing answer null, a request that fails inside is
-    answered (logged to the client) and the server goes on; shutdown then exit ends the
-    process with status 0 and nothing on stderr but notes."""
+    """Over raw stdio: requests about nothing (a missing file, a line past the end, an
+    untitled buffer) answer null, a binary buffer gets diagnostics, and shutdown then exit end
+    the process with status 0 and no traceback."""
     import subprocess
     import sys
 
