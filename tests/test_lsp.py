@@ -332,3 +332,49 @@ async def test_columns_are_utf16_code_units(client, tmp_path):
     assert [(d.range.start.line, d.range.start.character) for d in found] == [
         (3, len(line[:column].encode("utf-16-le")) // 2)]
     assert found[0].range.start.character == column + 1
+
+
+@pytest.mark.skipif(not REALSENSE.is_dir(), reason="needs ../shared/real-packages")
+async def test_completion_of_a_macro_calls_parameters(client):
+    entry = REALSENSE / "urdf" / "test_d435_camera.urdf.xacro"
+    await open_file(client, entry)
+    line = _line_of(entry, "<xacro:sensor_d435")
+    text = entry.read_text(encoding="utf-8").split("\n")[line - 1]
+    where = lsp.Position(line - 1, text.index("<xacro:sensor_d435") + len("<xacro:sensor_d435 "))
+    found = await client.text_document_completion_async(lsp.CompletionParams(
+        lsp.TextDocumentIdentifier(uri(entry)), where))
+    params = re.search(r'<xacro:macro name="sensor_d435" params="([^"]*)"',
+                       (REALSENSE / "urdf" / "_d435.urdf.xacro").read_text(encoding="utf-8"))
+    given = set(re.findall(r'(\w+)="', text))
+    expected = {p.split(":=")[0] for p in params.group(1).split() if not p.startswith("*")}
+    assert {item.label for item in found.items} == expected - given != set()
+
+
+async def test_random_edits_never_take_the_server_down(client, tmp_path):
+    """Typing garbage into a xacro (truncations, stray characters, deleted brackets): every
+    state gets diagnostics, no check fails, the server answers after each."""
+    import random
+
+    robot = _copy(tmp_path, ROBOTS / "dual_arm" / "published")
+    path = next(robot.glob("*.xacro"))
+    text = path.read_text(encoding="utf-8")
+    await open_file(client, path)
+    before = len(client.log_messages)
+    chance = random.Random(24)
+    for version in range(2, 26):
+        at = chance.randrange(max(1, len(text)))
+        edit = chance.choice(["cut", "insert", "delete"])
+        if edit == "cut":
+            text = text[:at]
+        elif edit == "insert":
+            text = text[:at] + chance.choice(["<", ">", '"', "${", "</", "&", "\x00", "é"]) \
+                + text[at:]
+        else:
+            text = text[:at] + text[at + chance.randrange(1, 40):]
+        await change(client, path, text, version)
+        hover = await client.text_document_hover_async(lsp.HoverParams(
+            lsp.TextDocumentIdentifier(uri(path)), lsp.Position(chance.randrange(60), 5)))
+        assert hover is None or hover.contents.value
+    failures = [m.message for m in client.log_messages[before:] if "failed" in m.message]
+    assert failures == []
+    assert uri(path) in client.diagnostics

@@ -516,7 +516,8 @@ def symbols(view: View) -> list[lsp.DocumentSymbol] | None:
 
 def completion(view: View, position: lsp.Position) -> lsp.CompletionList | None:
     """Link names in ``parent``/``child link=""``, joint names in ``mimic joint=""``, both in
-    ``<gazebo reference="">``; macro names after ``<xacro:``."""
+    ``<gazebo reference="">``; macro names after ``<xacro:``, and in a macro call the
+    parameters not given yet."""
     offset = view.offset(position)
     if offset is None:
         return None
@@ -533,6 +534,20 @@ def completion(view: View, position: lsp.Position) -> lsp.CompletionList | None:
     if tag is None:
         return None
     attribute = attribute_at(tag, offset)
+    if attribute is None and tag.name.startswith("xacro:"):  # a macro call's parameters
+        items = []
+        for d in view.definitions():
+            if d.kind == "macro" and d.name == tag.name.split(":", 1)[1]:
+                for param in d.attributes.get("params", "").split():
+                    name, _, default = param.partition(":=")
+                    name = name.partition("=")[0]
+                    if name and not name.startswith("*") and name not in tag.attributes \
+                            and name not in {i.label for i in items}:
+                        items.append(lsp.CompletionItem(
+                            name, kind=lsp.CompletionItemKind.Property,
+                            detail=f"default {default}" if default else "required",
+                            insert_text=f'{name}=""'))
+        return lsp.CompletionList(False, items) if items else None
     kind = NAME_ATTRIBUTES.get((tag.name, attribute))
     if kind is None or attribute == "name":
         return None
