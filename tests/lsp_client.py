@@ -4,8 +4,10 @@ stdio, and the findings of ``urdftool check --format json`` to compare with."""
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 from lsprotocol import types as lsp
@@ -13,8 +15,18 @@ from pytest_lsp import ClientServerConfig, client_capabilities
 
 from tests.conftest import ROOT
 
-SERVER = ClientServerConfig([sys.executable, "-m", "urdftool", "lsp"],
-                            server_env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+# the servers' own mesh cache (they outlive one test's), never the user's
+SERVER = ClientServerConfig([sys.executable, "-m", "urdftool", "lsp"], server_env={
+    "PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin",
+    "URDFTOOL_CACHE_DIR": tempfile.mkdtemp(prefix="urdftool-lsp-cache-")})
+
+
+def _env() -> dict[str, str]:
+    """The environment of a CLI run from a test: the test's own cache (conftest)."""
+    env = {"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"}
+    if os.environ.get("URDFTOOL_CACHE_DIR"):
+        env["URDFTOOL_CACHE_DIR"] = os.environ["URDFTOOL_CACHE_DIR"]
+    return env
 SEVERITY = {lsp.DiagnosticSeverity.Error: "error", lsp.DiagnosticSeverity.Warning: "warning",
             lsp.DiagnosticSeverity.Information: "info"}
 
@@ -72,7 +84,7 @@ def check_report(*args: str, cwd=None) -> dict:
     it)."""
     done = subprocess.run([sys.executable, "-m", "urdftool", "check", "--format", "json", *args],
                           capture_output=True, text=True, cwd=cwd or ROOT,
-                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"}, check=False)
+                          env=_env(), check=False)
     assert done.returncode in (0, 1), done.stderr
     return json.loads(done.stdout)
 
@@ -98,7 +110,7 @@ def check_fix(path, out) -> str:
     """What ``urdftool check --fix -o OUT PATH`` writes."""
     subprocess.run([sys.executable, "-m", "urdftool", "check", "--trusted", "--fix", "-o",
                     str(out), str(path)], cwd=ROOT, capture_output=True, check=False,
-                   env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+                   env=_env())
     return Path(out).read_text(encoding="utf-8")
 
 

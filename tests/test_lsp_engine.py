@@ -135,7 +135,8 @@ def test_the_server_answers_bad_requests_and_exits_cleanly(tmp_path):
     ]
     server = subprocess.Popen([sys.executable, "-m", "urdftool", "lsp"], stdin=subprocess.PIPE,
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+                              env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin",
+                                   "URDFTOOL_CACHE_DIR": str(tmp_path / "cache")})
     try:
         server.stdin.write(b"".join(_frame(m) for m in requests))
         server.stdin.flush()
