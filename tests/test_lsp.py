@@ -8,6 +8,7 @@ import functools
 import math
 import re
 import shutil
+from pathlib import Path
 
 import pytest
 import pytest_lsp
@@ -28,6 +29,7 @@ from tests.lsp_client import (
     start,
     uri,
 )
+from urdftool.lsp.server import UNNECESSARY
 
 REAL = ROOT.parent / "shared" / "real-packages"
 if not REAL.is_dir():
@@ -378,3 +380,20 @@ async def test_random_edits_never_take_the_server_down(client, tmp_path):
     failures = [m.message for m in client.log_messages[before:] if "failed" in m.message]
     assert failures == []
     assert uri(path) in client.diagnostics
+
+
+async def test_old_xacro_syntax_is_tagged_deprecated(client):
+    """The unprefixed (pre-ROS-2) xacro tags are struck through as Deprecated; the rule's
+    page is linked from the diagnostic."""
+    directory = ROBOTS / "smartcar" / "published"
+    await open_file(client, first_robot_file(directory))
+    found = [d for diagnostics in client.diagnostics.values() for d in diagnostics
+             if d.code in ("xacro.unprefixed-tag", "xacro.unprefixed-macro-call")]
+    assert found and all(list(d.tags) == [lsp.DiagnosticTag.Deprecated] for d in found)
+    page = found[0].code_description.href
+    assert page.startswith("file://")
+    text = Path(page.removeprefix("file://")).read_text(encoding="utf-8")
+    assert text.startswith(f"# {found[0].code}")
+    others = [d for diagnostics in client.diagnostics.values() for d in diagnostics
+              if d.code and not d.code.startswith("xacro.unprefixed")]
+    assert others and not any(d.tags for d in others if d.code not in UNNECESSARY)
