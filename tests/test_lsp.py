@@ -397,3 +397,18 @@ async def test_old_xacro_syntax_is_tagged_deprecated(client):
     others = [d for diagnostics in client.diagnostics.values() for d in diagnostics
               if d.code and not d.code.startswith("xacro.unprefixed")]
     assert others and not any(d.tags for d in others if d.code not in UNNECESSARY)
+
+
+@pytest.mark.skipif(not REALSENSE.is_dir(), reason="needs ../shared/real-packages")
+async def test_hover_on_a_computed_property_gives_the_value_the_expansion_wrote(client):
+    """d435_cam_depth_pz = ${d435_cam_height/2}: its value, read where the expansion wrote it
+    (an origin's xyz), equals the height property over two."""
+    macro_file = REALSENSE / "urdf" / "_d435.urdf.xacro"
+    entry = REALSENSE / "urdf" / "test_d435_camera.urdf.xacro"
+    await open_file(client, entry)
+    await open_file(client, macro_file)
+    text = await _hover(client, macro_file, _position(
+        macro_file, 'name="d435_cam_depth_pz"', "d435_cam_depth_pz"))
+    height = _property(REALSENSE / "urdf", "d435_cam_height")
+    assert "`${d435_cam_height/2}`" in text
+    assert float(re.search(r"= `([^`]+)`\s*$", text).group(1)) == pytest.approx(height / 2)

@@ -321,6 +321,13 @@ def hover(view: View, position: lsp.Position) -> lsp.Hover | None:
         value = tag.attributes.get("value", (None,))[0]
         parts.append(f"**property** `{name}` = `{value}`" if value is not None
                      else f"**property** `{name}` (a block)")
+        if value is not None and "$" in value:
+            parts.extend(f"= `{v}`" for v in property_values(view, name))
+    else:
+        name = _expression_name(view, offset) if attribute is not None else None
+        raw = tag.attributes[attribute][0] if attribute is not None else ""
+        if name is not None and raw.strip() != "${" + name + "}":
+            parts.extend(f"`{name}` = `{v}`" for v in property_values(view, name))
     instances = view.elements(tag)
     seen = set()
     for robot, element in instances[:MAX_INSTANCES]:
@@ -349,6 +356,43 @@ def hover(view: View, position: lsp.Position) -> lsp.Hover | None:
     if not parts:
         return None
     return lsp.Hover(lsp.MarkupContent(lsp.MarkupKind.Markdown, "\n\n---\n\n".join(parts)))
+
+
+def property_values(view: View, name: str) -> list[str]:
+    """The values a property took, read off the expanded robots where an attribute (or one
+    whitespace-separated part of it, as in ``xyz="${a} ${b} ${c}"``) is exactly ``${name}``:
+    what the expansion wrote there, no second evaluation of xacro."""
+    values: list[str] = []
+    token = "${" + name + "}"
+    for key, text in view.texts.items():
+        if token not in text:
+            continue
+        starts = _line_starts(text)
+        for attribute in _ATTR.finditer(text):
+            raw = attribute.group(3) if attribute.group(3) is not None else attribute.group(4)
+            parts = raw.split()
+            if token not in parts:
+                continue
+            start = text.rfind("<", 0, attribute.start())
+            tag = _TAG.match(text, start) if start >= 0 else None
+            if tag is None:
+                continue
+            line = _line(starts, start) + 1
+            for _, robot in view.checks:
+                if robot is None or robot.root is None:
+                    continue
+                for element in _index(robot).get((key, line), ()):
+                    value = element.get(attribute.group(1))
+                    if element.tag != tag.group(2) or value is None:
+                        continue
+                    written = value.split()
+                    if len(written) == len(parts):
+                        found = written[parts.index(token)]
+                        if found not in values:
+                            values.append(found)
+            if len(values) >= MAX_INSTANCES:
+                return values
+    return values
 
 
 # -- definitions and references --------------------------------------------------------------
