@@ -167,3 +167,16 @@ def test_the_server_answers_bad_requests_and_exits_cleanly(tmp_path):
                    if m.get("method") == "textDocument/publishDiagnostics"
                    and m["params"]["uri"] == doc]
     assert diagnostics and diagnostics[-1]["params"]["diagnostics"], diagnostics
+
+
+def test_settings_refuse_what_they_do_not_know():
+    """A setting with an unknown key, a wrong type or an unknown rule is refused and said
+    (the server logs it to the client); ``trusted`` only from the initialization options."""
+    base = Settings()
+    settings, problems = base.updated({"select": ["joint", "joint.no-such-rule"],
+                                       "ignore": ["mesh"], "bogus": 1, "args": {"a": 1},
+                                       "trusted": True, "packages": {"p": "/x"}})
+    assert settings.select == [] and settings.ignore == ["mesh"] and settings.args == {}
+    assert settings.packages == {"p": "/x"} and settings.trusted is False
+    assert len(problems) == 4 and any("joint.no-such-rule" in p for p in problems)
+    assert base.updated({"trusted": True}, trust=True)[0].trusted is True

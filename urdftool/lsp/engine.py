@@ -82,6 +82,8 @@ class Settings:
                     new.trusted = value
                 else:
                     problems.append("'trusted' is read from initializationOptions only")
+            elif key in ("select", "ignore") and self._unknown_rules(key, value):
+                problems.append(self._unknown_rules(key, value))
             elif key == "packages":
                 new.packages = {**self.packages, **value}
             elif key == "args":
@@ -97,6 +99,17 @@ class Settings:
             else:
                 setattr(new, key, value)
         return new, problems
+
+
+    @staticmethod
+    def _unknown_rules(key: str, ids: list[str]) -> str | None:
+        from urdftool.config import check_rule_ids
+
+        try:
+            check_rule_ids(ids, f"setting {key!r}")
+        except ToolError as exc:
+            return str(exc)
+        return None
 
 
 class Unit:
