@@ -19,9 +19,11 @@ ENTRY = """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
   <xacro:arm prefix="a_" length="${data['length']}"/>
   <joint name="j" type="fixed"><parent link="base"/><child link="a_link"/></joint>
   <link name="n${len(data['items'])}"/>
+  <link name="d${int(round(data['angle'] * 1000))}"/>
   <xacro:if value="${data['items'].append(1) or True}"><link name="m${len(data['items'])}"/></xacro:if>
 </robot>
 """
+DATA = "length: 2\nangle: !degrees 180.0\nitems: [1, 2]\n"  # a unit tag on a literal
 OTHER = '<robot name="o"><link name="x"/></robot>\n'
 
 
@@ -34,7 +36,7 @@ def _engine() -> Engine:
 def test_an_edit_rechecks_only_the_checks_that_read_the_file(tmp_path):
     (tmp_path / "package.xml").write_text("<package/>", encoding="utf-8")
     (tmp_path / "macros.xacro").write_text(MACROS, encoding="utf-8")
-    (tmp_path / "data.yaml").write_text("length: 2\nitems: [1, 2]\n", encoding="utf-8")
+    (tmp_path / "data.yaml").write_text(DATA, encoding="utf-8")
     (tmp_path / "robot.urdf.xacro").write_text(ENTRY, encoding="utf-8")
     (tmp_path / "other.urdf").write_text(OTHER, encoding="utf-8")
     engine = _engine()
@@ -66,7 +68,7 @@ def test_yaml_data_changed_by_an_expression_is_not_shared_between_expansions(tmp
     """The parsed YAML is kept between expansions (the server expands on every edit); an
     expression that changes the data it got changes only its own expansion's copy."""
     (tmp_path / "macros.xacro").write_text(MACROS, encoding="utf-8")
-    (tmp_path / "data.yaml").write_text("length: 2\nitems: [1, 2]\n", encoding="utf-8")
+    (tmp_path / "data.yaml").write_text(DATA, encoding="utf-8")
     (tmp_path / "robot.urdf.xacro").write_text(ENTRY, encoding="utf-8")
     import xacro
     from lxml import etree
@@ -80,7 +82,7 @@ def test_yaml_data_changed_by_an_expression_is_not_shared_between_expansions(tmp
         names.append(sorted(link.name for link in robot.links))
     document = xacro.process_file(str(tmp_path / "robot.urdf.xacro"), mappings={})
     plain = sorted(e.get("name") for e in etree.fromstring(document.toxml().encode()).iter("link"))
-    assert names == [plain] * 3 and "n2" in plain
+    assert names == [plain] * 3 and "n2" in plain and "d3142" in plain
 
 
 def _frame(message: dict) -> bytes:

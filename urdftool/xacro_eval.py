@@ -25,6 +25,7 @@ from __future__ import annotations
 import ast
 import math
 import operator
+import re
 import string
 import time
 
@@ -180,7 +181,10 @@ _ALLOWED_NODES = (
 _NODE_WORDS = {ast.Lambda: "a lambda", ast.NamedExpr: "an assignment expression (:=)",
                ast.Await: "await", ast.Yield: "yield", ast.YieldFrom: "yield from"}
 _PARSED: dict[str, ast.Expression] = {}
-_YAML_DATA: dict[str, object] = {}  # YAML text (without tags) -> its data, checked
+_YAML_DATA: dict[str, object] = {}  # YAML text (without expressions) -> its data, checked
+# a unit tag on a number literal (``!degrees 180.0``): its value depends on the text alone
+_LITERAL_UNIT = (r"!(?:radians|degrees|meters|millimeters|foot|inches)[ \t]+"
+                 r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?=[\s,\]}]|$)")
 
 
 def check_expression(expression: str) -> ast.Expression:
@@ -966,7 +970,8 @@ class Interpreter:
             xacro.filestack.pop()
             xacro.all_includes.append(path)
         _check_yaml(data, self.tick)
-        if "!" not in text:  # no unit tags: the data do not depend on the expansion's symbols
+        if "!" not in text or "!" not in re.sub(_LITERAL_UNIT, "", text):  # no expression
+            # in a unit tag: the data depend on the text alone, not on the expansion's symbols
             if len(_YAML_DATA) >= 64:
                 _YAML_DATA.clear()
             _YAML_DATA[text] = copy.deepcopy(data)  # expressions may change what they get
