@@ -59,7 +59,9 @@ def baseline_tree(commit: str, into: Path) -> Path:
 def in_process(runs: int, path: Path) -> dict[str, float]:
     """Median seconds of a reader's start, a request to it, and the same load in-process."""
     from urdftool import sandbox
-    from urdftool.source import LoadOptions, load
+    from urdftool.loader import load
+    from urdftool.roots import Roots
+    from urdftool.source import LoadOptions
 
     starts, requests, local = [], [], []
     for _ in range(runs):
@@ -67,7 +69,8 @@ def in_process(runs: int, path: Path) -> dict[str, float]:
         child = sandbox.Child([path.parent], 1024)
         starts.append(time.perf_counter() - started)
         request = {"op": "load", "path": str(path), "packages": {}, "xacro_args": {},
-                   "sdf_model": None, "sdf_model_paths": [], "allow_env": [], "timeout": 3.0}
+                   "sdf_model": None, "sdf_model_paths": [], "allow_env": [], "timeout": 3.0,
+                   "roots": Roots([path.parent]).to_json()}
         child.ask(request, 5.0, "bench")  # the first request imports what loading needs
         started = time.perf_counter()
         child.ask(request, 5.0, "bench")

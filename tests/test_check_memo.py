@@ -10,9 +10,9 @@ import pytest
 
 from urdftool import packages
 from urdftool.check import CheckOptions, check_file, check_paths
+from urdftool.loader import load
 from urdftool.model import build_robot
 from urdftool.physics import links
-from urdftool.source import load
 
 # a link whose declared moments exceed what its box can hold, and a misspelt element
 LINK = """  <link name="arm">

@@ -24,9 +24,9 @@ def findings(path, families=("inertia",), packages=None):
 
 def ratios(path):
     """declared / geometry moment about each inertial axis, per link (not vacuous: both known)"""
+    from urdftool.loader import load
     from urdftool.model import build_robot
     from urdftool.physics import links
-    from urdftool.source import load
 
     links._last = None
     robot = build_robot(load(path, LoadOptions()))

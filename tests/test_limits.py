@@ -11,8 +11,8 @@ import pytest
 from conftest import run_urdftool
 
 from urdftool.limits import composed, image, limits_data, mimic_chain, mimic_image
+from urdftool.loader import load
 from urdftool.model import build_robot
-from urdftool.source import load
 
 ROOT = Path(__file__).resolve().parent.parent
 OPEN_MANIPULATOR = ROOT / "robots" / "open_manipulator"

@@ -11,9 +11,10 @@ from scipy.spatial.transform import Rotation
 
 from tests.conftest import run_urdftool
 from urdftool.check import CheckOptions, check_file
+from urdftool.loader import load
 from urdftool.model import build_robot
 from urdftool.physics import links, meshes
-from urdftool.source import LoadOptions, load
+from urdftool.source import LoadOptions
 
 trimesh = pytest.importorskip("trimesh")
 

@@ -176,14 +176,16 @@ def test_untrusted_reads_only_inside_the_package(payload, tmp_path, monkeypatch)
     path = package / "urdf" / "robot.urdf.xacro"
     path.write_text(HEAD + payload + TAIL, encoding="utf-8")
     monkeypatch.chdir(package)
+    # one trust model (issue 20): what a file may read is the same in both modes
     trusted = run_urdftool("expand", "--trusted", path)
-    assert "hunter2" in trusted.out  # plain xacro behaviour on your own files
-    result = run_urdftool("check", "--untrusted", "--format", "json", path)
-    assert "hunter2" not in result.out
-    messages = [d["message"] for f in json.loads(result.out)["files"] for d in f["diagnostics"]
-                if d["rule"] == "xacro.error"]
-    assert any("outside the package roots" in m and ("secret.yaml" in m or "outside.xacro" in m)
-               for m in messages), messages
+    assert "hunter2" not in trusted.out + trusted.err
+    for mode in ("--untrusted", "--trusted"):
+        result = run_urdftool("check", mode, "--format", "json", path)
+        assert "hunter2" not in result.out
+        messages = [d["message"] for f in json.loads(result.out)["files"]
+                    for d in f["diagnostics"] if d["rule"] == "xacro.error"]
+        assert any("outside the repository" in m and ("secret.yaml" in m or "outside.xacro" in m)
+                   for m in messages), messages
 
 
 def test_untrusted_reads_inside_the_package_and_given_packages(tmp_path, monkeypatch):
@@ -390,9 +392,9 @@ def test_untrusted_meshes_only_inside_the_package(tmp_path):
                                          "mesh.not-found", path).out)
         return [d["message"] for f in report["files"] for d in f["diagnostics"]]
 
-    assert not_found("--trusted") == []
-    (message,) = not_found("--untrusted")
-    assert "../outside.stl" in message and "outside-the-package-roots" in message
+    for mode in ("--untrusted", "--trusted"):  # one trust model (issue 20)
+        (message,) = not_found(mode)
+        assert "../outside.stl" in message and "outside-the-package-roots" in message
 
 
 def test_untrusted_input_symlink_to_a_machine_file_is_not_read(tmp_path, monkeypatch):
@@ -406,10 +408,10 @@ def test_untrusted_input_symlink_to_a_machine_file_is_not_read(tmp_path, monkeyp
     (repo / "package.xml").write_text("<package><name>robot_description</name></package>")
     (repo / "robot.urdf").symlink_to(secret)
     monkeypatch.chdir(repo)
-    result = run_urdftool("check", "--untrusted", repo)
-    assert result.code == 2 and "outside the package roots" in result.err
-    assert "hunter2" not in result.out + result.err
-    assert "hunter2" in run_urdftool("check", "--trusted", repo).out  # what it would leak
+    for mode in ("--untrusted", "--trusted"):  # one trust model (issue 20)
+        result = run_urdftool("check", mode, repo)
+        assert result.code == 2 and "outside the repository" in result.err
+        assert "hunter2" not in result.out + result.err and "home" not in result.err
 
 
 @pytest.mark.parametrize("mode", ["--trusted", "--untrusted"])
@@ -450,9 +452,8 @@ def test_untrusted_sdf_includes_only_inside_the_package(tmp_path, monkeypatch):
         return result.out, [d["message"] for f in json.loads(result.out)["files"]
                             for d in f["diagnostics"] if d["rule"] == "sdf.include"]
 
-    out, messages = include_findings("--trusted")
-    assert messages == [] and "hunter2" in out  # your own files: read as written
-    out, (message,) = include_findings("--untrusted")
-    assert "outside the package roots" in message and "hunter2" not in out
-    out, messages = include_findings("--untrusted", "--model-path", str(outside.parent))
-    assert messages == []  # a folder the user names is allowed
+    for mode in ("--untrusted", "--trusted"):  # one trust model (issue 20)
+        out, (message,) = include_findings(mode)
+        assert "outside the repository" in message and "hunter2" not in out
+        out, messages = include_findings(mode, "--model-path", str(outside.parent))
+        assert messages == []  # a folder the operator names is allowed

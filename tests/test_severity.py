@@ -43,8 +43,8 @@ def findings(write, text, select=("inertia",)):
 
 def test_merged_body_matches_pinocchio(write):
     pin = pytest.importorskip("pinocchio")
+    from urdftool.loader import load
     from urdftool.model import build_robot
-    from urdftool.source import load
 
     path = write(robot_text(moment="0.0001"))
     model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())

@@ -13,7 +13,8 @@ import os
 import pytest
 
 from tests.conftest import run_urdftool
-from urdftool.sim import CHECKS, SimOptions, simulate
+from urdftool.sim import CHECKS, SimOptions
+from urdftool.sim.runner import simulate
 
 pytest.importorskip("pybullet")
 

@@ -9,7 +9,8 @@ import pytest
 
 from tests.conftest import example_robot_data_dir, pybullet_data_dir, pybullet_urdfs
 from tests.test_sim import arm
-from urdftool.sim import SimOptions, simulate
+from urdftool.sim import SimOptions
+from urdftool.sim.runner import simulate
 
 pytest.importorskip("pybullet")
 

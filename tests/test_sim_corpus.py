@@ -12,7 +12,8 @@ import math
 import pytest
 
 from tests.conftest import example_robot_data_dir, pybullet_data_dir
-from urdftool.sim import SimOptions, simulate
+from urdftool.sim import SimOptions
+from urdftool.sim.runner import simulate
 
 pytest.importorskip("pybullet")
 

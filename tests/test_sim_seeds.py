@@ -12,7 +12,8 @@ import shutil
 import pytest
 
 from tests.conftest import ROBOTS
-from urdftool.sim import SimOptions, simulate
+from urdftool.sim import SimOptions
+from urdftool.sim.runner import simulate
 
 pytest.importorskip("pybullet")
 

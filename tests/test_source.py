@@ -6,9 +6,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from urdftool.check import check_file
+from urdftool.loader import load
 from urdftool.model import build_robot
 from urdftool.packages import PackageResolver
-from urdftool.source import LoadOptions, detect_kind, load
+from urdftool.source import LoadOptions, detect_kind
 
 MACROS = """<robot xmlns:xacro="http://www.ros.org/wiki/xacro">
   <xacro:macro name="wheel" params="name r">

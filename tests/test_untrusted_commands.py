@@ -61,32 +61,35 @@ def test_env_read_sees_nothing_unless_allowed(command, env_reader):
 
 @pytest.mark.parametrize("command", COMMANDS)
 def test_untrusted_file_outside_the_package_is_refused(command, file_reader):
-    assert "j_hunter2" in run_urdftool(command, "--trusted", file_reader).out
-    result = run_urdftool(command, "--untrusted", file_reader)
-    assert result.code == 2 and "hunter2" not in result.out + result.err
-    assert "outside the package roots" in result.err and "secret.yaml" in result.err
-    assert len(result.err.strip().splitlines()) == 1
+    # one trust model (issue 20): refused in both modes, the same way
+    for mode in ("--untrusted", "--trusted"):
+        result = run_urdftool(command, mode, file_reader)
+        assert result.code == 2 and "hunter2" not in result.out + result.err
+        assert "outside the repository" in result.err and "secret.yaml" in result.err
+        assert len(result.err.strip().splitlines()) == 1
 
 
 @pytest.mark.parametrize("command", COMMANDS)
-def test_ci_variable_makes_untrusted_the_default(command, file_reader, monkeypatch):
-    # shown by what a file outside the package gives: refused only when untrusted
+def test_ci_variable_makes_untrusted_the_default(command, env_reader, monkeypatch):
+    # shown by where the xacro file is read: the sandboxed reader only when untrusted
+    from urdftool import sandbox
+
+    calls = []
+    original = sandbox.load_source
+    monkeypatch.setattr(sandbox, "load_source", lambda *a: calls.append(1) or original(*a))
     monkeypatch.setenv("CI", "true")
-    assert run_urdftool(command, file_reader).code == 2
-    assert "j_hunter2" in run_urdftool(command, "--trusted", file_reader).out
+    assert run_urdftool(command, env_reader).code == 0 and calls == [1]
+    assert run_urdftool(command, "--trusted", env_reader).code == 0 and calls == [1]
     monkeypatch.setenv("CI", "")
-    assert "j_hunter2" in run_urdftool(command, file_reader).out
+    assert run_urdftool(command, env_reader).code == 0 and calls == [1]
 
 
 def test_sim_untrusted_refuses_a_file_outside_the_package(file_reader):
-    trusted = run_urdftool("sim", "--trusted", "--format", "json", "--duration", "0.1",
-                           file_reader)
-    load = json.loads(trusted.out)["models"][0]["checks"][0]
-    assert (load["check"], load["status"]) == ("sim.load", "pass")  # your own files: read
-    result = run_urdftool("sim", "--untrusted", "--format", "json", "--duration", "0.1",
-                          file_reader)
-    assert result.code == 1 and "hunter2" not in result.out + result.err
-    assert "outside the package roots" in result.out and "secret.yaml" in result.out
+    for mode in ("--untrusted", "--trusted"):  # one trust model (issue 20)
+        result = run_urdftool("sim", mode, "--format", "json", "--duration", "0.1",
+                              file_reader)
+        assert result.code == 1 and "hunter2" not in result.out + result.err
+        assert "outside the repository" in result.out and "secret.yaml" in result.out
 
 
 def test_convert_untrusted_reads_no_include_outside_the_package(tmp_path, monkeypatch):
@@ -98,9 +101,9 @@ def test_convert_untrusted_reads_no_include_outside_the_package(tmp_path, monkey
     path.write_text('<sdf version="1.7"><model name="m"><link name="a"/><include>'
                     f"<uri>{outside / 'model.sdf'}</uri></include></model></sdf>")
     monkeypatch.chdir(path.parent)
-    assert "hunter2_link" in run_urdftool("convert", "--trusted", path).out
-    result = run_urdftool("convert", "--untrusted", path)
-    assert "hunter2" not in result.out and "outside the package roots" in result.err
+    for mode in ("--untrusted", "--trusted"):  # one trust model (issue 20)
+        result = run_urdftool("convert", mode, path)
+        assert "hunter2" not in result.out and "outside the repository" in result.err, result
 
 
 def test_optenv_default_taken_for_a_hidden_variable_is_a_finding(env_reader, monkeypatch):

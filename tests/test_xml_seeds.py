@@ -15,8 +15,8 @@ from conftest import ROBOTS, run_urdftool
 from lxml import etree
 
 from urdftool.check import CheckOptions, check_file
+from urdftool.loader import load
 from urdftool.model import build_robot
-from urdftool.source import load
 from urdftool.xmlrepair import repair, secure_parser
 
 M2WR = ROBOTS / "m2wr" / "published" / "m2wr.xacro"

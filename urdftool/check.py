@@ -18,6 +18,7 @@ from pathlib import Path
 
 from urdftool.config import Config, suppressions
 from urdftool.errors import ToolError
+from urdftool.loader import load, run_roots
 from urdftool.model import build_robot
 from urdftool.package import (
     Target,
@@ -38,7 +39,7 @@ from urdftool.report import (
     merge_repeats,
 )
 from urdftool.rules import load_all, selected
-from urdftool.source import LoadOptions, load
+from urdftool.source import LoadOptions
 
 
 @dataclass
@@ -306,7 +307,11 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
     """Check every robot file under ``paths``. Raises ToolError when there is nothing to check,
     and the error of the first file (in order) that cannot be checked at all. ``progress(done,
     total)`` is called as files are done (the CLI's progress display)."""
-    options = options or CheckOptions()
+    options = copy.copy(options or CheckOptions())
+    # what the run may read, once, from the operator's options and the paths given: before
+    # any configuration is read (its packages and entries are clamped inside the repository)
+    options.load = copy.copy(options.load)
+    options.load.roots = run_roots(paths, options.load)
     files, given = plan(paths, options.changed)
     if not files and given is not None:  # changed files of no package with robot files
         report = Report([], [])
@@ -314,10 +319,6 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
         return report
     if not files:
         raise ToolError("no robot files (*.urdf, *.xacro, *.sdf) found in " + ", ".join(paths))
-    if options.load.untrusted:  # one sandboxed reader for the run, not one per package
-        from urdftool import sandbox
-
-        sandbox.expect([f.path for f in files], options.load)
     _single_threaded_blas()
     # a run allocates many short-lived objects (XML proxies, model records): the young
     # generation collected 30x less often, and so the whole heap rarely walked (~4% of a run)

@@ -7,8 +7,10 @@ Keys: ``select`` and ``ignore`` (lists of rule ids or families), ``strict`` (boo
 ``{ file = "urdf/robot.urdf.xacro", args = { NAME = "VALUE" } }``: the package's entry points,
 the same file possibly with several argument sets), ``packages`` (a table NAME -> DIR for
 ``package://NAME`` and ``$(find NAME)``), ``baseline`` (a baseline file). Paths are relative to
-the configuration file's directory. Anything else (an unknown key, a wrong type, an unknown rule
-id) is a ToolError (exit 2) with a did-you-mean.
+the configuration file's directory, and must resolve (links followed) inside its repository
+(``urdftool.roots``): a configuration is a repository file, and only the operator widens what a
+run reads (issue 20). Anything else (an unknown key, a wrong type, an unknown rule id, a path
+outside the repository) is a ToolError (exit 2) naming the key, with a did-you-mean.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from typing import NamedTuple
 
 from urdftool.errors import ToolError
 from urdftool.files import read_regular
+from urdftool.roots import OutsideRepository, clamp, repository_for
 
 # compiled on first use (re caches it): most files have no suppression comment
 _SUPPRESS = r"<!--\s*urdftool:\s*ignore\s+([^>]*?)\s*-->"
@@ -139,13 +142,20 @@ def parse_config(table: dict, path: Path) -> Config:
     baseline = table.get("baseline")
     if baseline is not None and not isinstance(baseline, str):
         raise ToolError(f"{where}baseline must be a file name (a string)")
-    return Config(strings("select"), strings("ignore"), strict, dict(severity), path,
-                  _entries(table.get("entries", []), where, base),
-                  {name: str((base / directory).resolve()) for name, directory in packages.items()},
-                  (base / baseline) if baseline is not None else None)
+    repository = repository_for(base)
+    try:
+        directories = {name: str(clamp(directory, base, f"packages.{name}", repository))
+                       for name, directory in packages.items()}
+        entries = _entries(table.get("entries", []), where, base, repository)
+        baseline_path = (clamp(baseline, base, "baseline", repository)
+                         if baseline is not None else None)
+    except OutsideRepository as exc:
+        raise ToolError(f"{where}{exc}") from None
+    return Config(strings("select"), strings("ignore"), strict, dict(severity), path, entries,
+                  directories, baseline_path)
 
 
-def _entries(value, where: str, base: Path) -> list[Entry]:
+def _entries(value, where: str, base: Path, repository: Path) -> list[Entry]:
     shape = 'entries = [{ file = "urdf/robot.urdf.xacro", args = { NAME = "VALUE" } }, ...]'
     if not isinstance(value, list):
         raise ToolError(f"{where}entries must be a list: {shape}")
@@ -162,7 +172,7 @@ def _entries(value, where: str, base: Path) -> list[Entry]:
         args = item.get("args", {})
         if not isinstance(args, dict):
             raise ToolError(f"{where}entries[{number}].args must be a table: NAME = \"VALUE\"")
-        file = (base / item["file"]).resolve()
+        file = clamp(item["file"], base, f"entries[{number}].file", repository)
         if not file.is_file():
             raise ToolError(f"{where}entries[{number}]: {item['file']}: no such file")
         # xacro arguments are strings; TOML booleans and numbers are written as xacro reads them

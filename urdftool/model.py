@@ -13,25 +13,14 @@ import gc
 import math
 from typing import TYPE_CHECKING, Any, NamedTuple
 
+from urdftool.findings import Loc  # re-exported: urdftool.model.Loc
+
 if TYPE_CHECKING:  # pragma: no cover
     from lxml import etree
 
     from urdftool.source import Source
 
 Vec3 = tuple[float, float, float]
-
-
-class Loc(NamedTuple):
-    """Where something was written: the user's file and 1-based line/column.
-
-    ``via`` lists the macro call sites ("file:line") that produced the element, innermost first.
-    """
-
-    path: str
-    line: int | None = None
-    column: int | None = None
-    element: str | None = None
-    via: tuple[str, ...] = ()
 
 
 class Pose(NamedTuple):

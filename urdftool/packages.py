@@ -70,34 +70,122 @@ def _package_name(package_xml: Path) -> str | None:
     return match.group(1) if match else None
 
 
+# a directory holding one of these is not crawled (catkin, colcon, ament; rospack's own)
+IGNORE_MARKERS = ("CATKIN_IGNORE", "COLCON_IGNORE", "AMENT_IGNORE", "rospack_nosubdirs")
+MAX_CRAWL_DIRECTORIES = 20000  # a crawl's bound: a description repository has far fewer
+_CRAWLS: dict[str, dict[str, Path]] = {}  # crawl(root), per process
+
+
+def crawl(root: Path | str) -> dict[str, Path]:
+    """The packages below ``root`` as rospack and colcon find them: each directory is descended
+    until it holds a ``package.xml`` (a package: its ``<name>``, not descended further);
+    directories whose name starts with a dot, and those holding ``CATKIN_IGNORE``,
+    ``COLCON_IGNORE``, ``AMENT_IGNORE`` or ``rospack_nosubdirs`` are not. The first of a name
+    (in sorted order, breadth first) is kept. Memoised per process."""
+    key = os.fspath(root)
+    found = _CRAWLS.get(key)
+    if found is not None:
+        return found
+    found = {}
+    pending = [Path(root)]
+    visited = 0
+    while pending and visited < MAX_CRAWL_DIRECTORIES:
+        directory = pending.pop(0)
+        visited += 1
+        try:
+            with os.scandir(directory) as entries:
+                names = {e.name: e for e in entries}
+        except OSError:
+            continue
+        if "package.xml" in names:
+            name = _package_name(directory / "package.xml")
+            if name:
+                found.setdefault(name, directory)
+            continue
+        if any(marker in names for marker in IGNORE_MARKERS):
+            continue
+        for name in sorted(names):
+            entry = names[name]
+            if name.startswith("."):
+                continue
+            try:
+                if entry.is_dir(follow_symlinks=False):
+                    pending.append(directory / name)
+            except OSError:
+                continue
+    _CRAWLS[key] = found
+    return found
+
+
+def ament_packages(prefix: Path | str) -> dict[str, Path]:
+    """The packages of one ``AMENT_PREFIX_PATH`` entry: those the ament index lists
+    (``share/ament_index/resource_index/packages/NAME``) at ``share/NAME``, and any
+    ``share/NAME/package.xml``."""
+    key = "ament:" + os.fspath(prefix)
+    found = _CRAWLS.get(key)
+    if found is not None:
+        return found
+    found = {}
+    share = Path(prefix) / "share"
+    index = share / "ament_index" / "resource_index" / "packages"
+    try:
+        markers = sorted(os.listdir(index))
+    except OSError:
+        markers = []
+    for name in markers:
+        if not name.startswith("."):
+            found.setdefault(name, share / name)
+    try:
+        shared = sorted(os.listdir(share))
+    except OSError:
+        shared = []
+    for name in shared:
+        if name not in found and is_file(share / name / "package.xml"):
+            found.setdefault(_package_name(share / name / "package.xml") or name, share / name)
+    _CRAWLS[key] = found
+    return found
+
+
 class PackageResolver:
-    """Finds package directories by name for one input file."""
+    """Finds package directories by name for one input file.
+
+    Where a package is looked for, in order (``tried`` names them for a finding): the
+    operator's ``-P NAME=DIR``; the package the file is in and every package of its repository
+    (crawled as rospack does); ``ROS_PACKAGE_PATH`` (crawled); ``AMENT_PREFIX_PATH`` (the ament
+    index and ``share/NAME``). ``roots`` (``urdftool.roots.Roots``, set by the loader) bound
+    what may be read: a package or file outside them is not taken. ``model_paths`` (the
+    operator's ``--model-path`` and model path variables) resolve ``model://`` URIs."""
 
     def __init__(self, explicit: dict[str, str] | None = None, start: Path | None = None,
-                 environ: dict[str, str] | None = None):
+                 environ: dict[str, str] | None = None, roots=None,
+                 model_paths: tuple = ()):
         self.explicit = {k: Path(v).resolve() for k, v in (explicit or {}).items()}
         self.start = start
         self.environ = os.environ if environ is None else environ
+        self.roots = roots  # urdftool.roots.Roots, or None: not bounded (library use)
+        self.model_paths = tuple(Path(p) for p in model_paths)
         self._found: dict[str, Path] | None = None
         self._context: tuple | None = None  # what resolve_uri depends on besides its arguments
-        self.confined_roots: list[Path] | None = None  # --untrusted: set by sandbox.confine
+
+    @property
+    def confined_roots(self) -> list[Path] | None:
+        """The roots as a list (None when not bounded)."""
+        return None if self.roots is None else self.roots.all()
 
     def allows(self, path: Path, also: tuple[Path, ...] = ()) -> bool:
-        """Whether the input may read ``path``: anywhere, unless confined (``--untrusted``) to
-        the package roots and the directories ``also`` the user named."""
-        if self.confined_roots is None:
+        """Whether the input may read ``path``: inside the run's roots (``also``: kept for
+        callers that name the operator's model paths, which the roots already hold)."""
+        if self.roots is None:
             return True
-        from urdftool.sandbox import inside
-
-        return inside(path, [*self.confined_roots, *(Path(p).resolve() for p in also)])
+        return self.roots.readable(path)
 
     def _discovery_key(self) -> tuple:
-        """What ``_discover`` depends on: the start directory and the environment."""
+        """What ``_discover`` depends on: the start directory, the roots and the environment."""
         directory = None
         if self.start is not None:
             directory = Path(resolved(self.start))
             directory = directory if directory.is_dir() else directory.parent
-        return (directory, self.environ.get("ROS_PACKAGE_PATH", ""),
+        return (directory, self.roots, self.environ.get("ROS_PACKAGE_PATH", ""),
                 self.environ.get("AMENT_PREFIX_PATH", ""))
 
     def _discover(self) -> dict[str, Path]:
@@ -109,40 +197,48 @@ class PackageResolver:
             found = _DISCOVERED[key] = self._walk(key[0])
         return dict(found)
 
+    def _repository_of(self, directory: Path) -> Path | None:
+        if self.roots is None:
+            return None
+        return next((root for root in self.roots.repositories
+                     if directory.is_relative_to(root)), None)
+
     def _walk(self, directory: Path | None) -> dict[str, Path]:
         found: dict[str, Path] = {}
         if directory is not None:
+            repository = self._repository_of(directory)
             for parent in (directory, *directory.parents):
-                if (parent / "package.xml").is_file():
+                if repository is not None and not parent.is_relative_to(repository):
+                    break
+                if is_file(parent / "package.xml"):
                     own = _package_name(parent / "package.xml")
                     if own:
                         found.setdefault(own, parent)
-                    try:
-                        siblings = sorted(parent.parent.iterdir())
-                    except OSError:
-                        siblings = []
-                    for sibling in siblings[:500]:
-                        name = _package_name(sibling / "package.xml") if sibling.is_dir() else None
-                        if name:
-                            found.setdefault(name, sibling)
+                    if repository is None:  # not bounded: its siblings (library use)
+                        try:
+                            siblings = sorted(parent.parent.iterdir())
+                        except OSError:
+                            siblings = []
+                        for sibling in siblings[:500]:
+                            name = (_package_name(sibling / "package.xml")
+                                    if is_file(sibling / "package.xml") else None)
+                            if name:
+                                found.setdefault(name, sibling)
                     break
+            if repository is not None:
+                for name, package in crawl(repository).items():
+                    found.setdefault(name, package)
         for entry in self.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep):
-            if entry and Path(entry).is_dir():
-                base = Path(entry)
-                if (base / "package.xml").is_file():
-                    name = _package_name(base / "package.xml")
-                    if name:
-                        found.setdefault(name, base)
-                for xml in sorted(base.glob("*/package.xml")) + sorted(base.glob("*/*/package.xml")):
-                    name = _package_name(xml)
-                    if name:
-                        found.setdefault(name, xml.parent)
+            if entry:
+                for name, package in crawl(entry).items():
+                    found.setdefault(name, package)
         for prefix in self.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
             if prefix:
-                index = Path(prefix) / "share" / "ament_index" / "resource_index" / "packages"
-                if index.is_dir():
-                    for marker in index.iterdir():
-                        found.setdefault(marker.name, Path(prefix) / "share" / marker.name)
+                for name, package in ament_packages(prefix).items():
+                    found.setdefault(name, package)
+        if self.roots is not None:  # a package.xml inside the repository that links out
+            found = {name: package for name, package in found.items()
+                     if self.roots.readable(package)}
         return found
 
     def find(self, name: str) -> Path | None:
@@ -152,6 +248,18 @@ class PackageResolver:
         if self._found is None:
             self._found = self._discover()
         return self._found.get(name)
+
+    def tried(self) -> str:
+        """Where ``find`` looked, and what would widen it (for a finding's hint)."""
+        places = ["-P NAME=DIR" + (f" ({', '.join(sorted(self.explicit))})"
+                                   if self.explicit else " (none given)")]
+        repository = (self._repository_of(Path(resolved(self.start)).parent)
+                      if self.start is not None else None)
+        places.append("the packages of the repository" if repository is not None
+                      else "the file's package and its siblings")
+        for variable in ("ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH"):
+            places.append(variable + ("" if self.environ.get(variable) else " (not set)"))
+        return ", ".join(places)
 
     def by_directory(self, name: str, start: Path) -> Path | None:
         """Package ``name`` as a directory NAME above ``start`` or beside one of its ancestors
@@ -171,8 +279,8 @@ class PackageResolver:
                  if ancestor.name == name or (ancestor / name).is_dir()), None)
         return _DIRECTORIES[key]
 
-    def roots(self) -> list[Path]:
-        """Every package directory known (the places an input may legitimately read from)."""
+    def roots_known(self) -> list[Path]:
+        """Every package directory known."""
         if self._found is None:
             self._found = self._discover()
         return list(self.explicit.values()) + list(self._found.values())
@@ -180,17 +288,23 @@ class PackageResolver:
     def resolve_uri(self, uri: str, base_dir: Path) -> Path | None:
         """Resolve a mesh or resource URI to a local path; None when it cannot be resolved.
         Relative paths and unknown packages are looked for from ``base_dir``, the directory of
-        the file that names them. Memoised per process, for every resolver with the same
-        packages and start directory (a robot, and the robots of a directory, name the same few
-        directories hundreds of times); a confined resolver wraps this method, so its refusals
-        apply to what comes from here."""
+        the file that names them. A path outside the roots resolves to a path under
+        ``REFUSED`` (which does not exist) made of the path as written, never where links
+        lead: the mesh rules report it missing, the same whether or not a file is there.
+        Memoised per process, for every resolver with the same packages, roots and start
+        directory (a robot, and the robots of a directory, name the same few directories
+        hundreds of times)."""
         if self._context is None:
             self._context = (tuple(sorted((k, os.fspath(v)) for k, v in self.explicit.items())),
-                             self._discovery_key())
+                             self._discovery_key(), self.model_paths)
         key = (self._context, uri, os.fspath(base_dir))
         found = _URIS.get(key, _UNKNOWN)
         if found is _UNKNOWN:
-            found = _URIS[key] = self._resolve_uri(uri, base_dir)
+            found = self._resolve_uri(uri, base_dir)
+            if found is not None and not self.allows(found):
+                written = os.path.normpath(os.path.abspath(os.fspath(found)))
+                found = REFUSED / written.lstrip(os.sep)
+            _URIS[key] = found
         return found
 
     def _resolve_uri(self, uri: str, base_dir: Path) -> Path | None:
@@ -199,9 +313,20 @@ class PackageResolver:
             name, _, rest = uri[len("package://"):].lstrip("/").partition("/")
             package = self.find(name) or self.by_directory(name, base_dir)
             return package / rest if package is not None else None
+        if uri.startswith("model://"):  # a mesh of an included SDF model: the model paths
+            rest = uri[len("model://"):].lstrip("/")
+            candidates = [directory / rest for directory in self.model_paths]
+            for candidate in candidates:
+                if self.allows(candidate) and is_file(candidate):
+                    return candidate
+            return None
         if uri.startswith("file://"):
             return Path(uri[len("file://"):])
         if "://" in uri:
             return None
         path = Path(uri)
         return path if path.is_absolute() else base_dir / path
+
+
+# where a refused path points (it does not exist): see PackageResolver.resolve_uri
+REFUSED = Path("/urdftool-untrusted-outside-the-package-roots")

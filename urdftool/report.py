@@ -10,25 +10,7 @@ import json
 from typing import NamedTuple
 
 from urdftool import __version__
-from urdftool.model import Loc
-
-SEVERITIES = ("error", "warning", "info")
-
-
-class Finding(NamedTuple):
-    """What a rule found: a message at a place, with an optional fix hint.
-
-    ``severity`` overrides the rule's default when a rule grades its own findings
-    (e.g. 2x over a bound is an error, 1x-2x a warning). ``edits`` fix it
-    (``urdftool.edits.Edit``, in the files the user wrote; the rule's registration says how
-    safe they are).
-    """
-
-    message: str
-    loc: Loc | None
-    hint: str | None = None
-    severity: str | None = None
-    edits: tuple = ()
+from urdftool.findings import SEVERITIES, Finding, Loc  # noqa: F401 - re-exported
 
 
 class Diagnostic(NamedTuple):

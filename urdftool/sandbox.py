@@ -13,14 +13,14 @@ separate, fresh Python interpreter (``urdftool.sandbox_child``), never a fork of
 The child is started with ``python -I``, an environment holding only the ``--allow-env``
 variables (and one-thread settings for the numeric libraries), no inherited descriptors, in a
 session of its own. Before it reads anything it drops its capabilities, sets hard resource
-limits, ``no_new_privs``, Landlock (read-only beneath the package roots and the interpreter's
-own files) and a seccomp filter (no exec, fork, sockets, ptrace, signals to other processes,
-limit changes). Where the kernel lacks Landlock or seccomp, a one-line notice says so. One
-child serves a whole run (per worker process); it is replaced when a file of another package
-needs reading, and killed when a request runs past ``--timeout``.
+limits, ``no_new_privs``, Landlock (read-only beneath the run's roots, ``Roots.landlock()``:
+the repository without its version-control metadata and the operator's directories, and the
+interpreter's own files) and a seccomp filter. Where the kernel lacks Landlock or seccomp, a
+one-line notice says so. One child serves a whole run (per worker process); it is killed when
+a request runs past ``--timeout``.
 
-This module also confines paths: ``package_roots``, ``check_input`` and ``confine`` (URIs that
-resolve outside the package roots resolve to a path under ``REFUSED``, which does not exist).
+Part of the loader layer (``urdftool.loader`` computes the roots and calls this module; the
+readers never import it).
 """
 
 from __future__ import annotations
@@ -33,6 +33,7 @@ import sys
 import time
 from pathlib import Path
 
+from urdftool import roots as _roots
 from urdftool.source import DEFAULT_TIMEOUT
 
 IN_CHILD = False  # set by urdftool.sandbox_child: load() there does the work itself
@@ -47,11 +48,8 @@ CHILD_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREA
              "LC_ALL": "C.UTF-8"}
 # where packages and models are (configuration, not secrets): the child finds packages and
 # models as this process does; xacro's $(env)/$(optenv) still see only --allow-env ones
-PATH_VARIABLES = ("ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH", "GZ_SIM_RESOURCE_PATH",
-                  "IGN_GAZEBO_RESOURCE_PATH", "GAZEBO_MODEL_PATH", "SDF_PATH")
+PATH_VARIABLES = _roots.PATH_VARIABLES
 TEST_SWITCH = "URDFTOOL_SANDBOX_TEST"  # never passed by the CLI, even with --allow-env
-
-REFUSED = Path("/urdftool-untrusted-outside-the-package-roots")
 
 
 class SandboxFailure(Exception):
@@ -62,74 +60,33 @@ def available() -> bool:
     return sys.platform.startswith("linux")
 
 
-# -- where an untrusted input may read ------------------------------------------------------
+# -- the roots of the run (urdftool.loader computes them) -------------------------------------
 
 
-def package_roots(resolver, path: Path) -> list[Path]:
-    """Where an untrusted input may read: the packages known to its resolver (``-P``, its own
-    package and siblings, ``ROS_PACKAGE_PATH``, ``AMENT_PREFIX_PATH``) and its own package, or
-    its directory when no ``package.xml`` is above it."""
-    roots = list(resolver.roots()) if resolver is not None else []
-    directory = Path(path).absolute().parent  # where the file is, not where a link points
-    own = next((d for d in (directory, *directory.parents) if (d / "package.xml").is_file()),
-               directory)
-    roots.append(own)
-    resolved = []
-    for root in roots:
-        try:
-            resolved.append(Path(root).resolve())
-        except OSError:
-            continue
-    return resolved
+_RUN: dict = {}  # the limits and roots of the untrusted run in this process
 
 
-def inside(path, roots: list[Path]) -> bool:
-    try:
-        resolved = Path(path).resolve()
-    except (OSError, RuntimeError):
-        return False
-    return any(resolved.is_relative_to(root) for root in roots)
+def use_for_meshes(roots, options=None) -> None:
+    """Mesh files are from now on parsed in the sandboxed reader, whose Landlock gets
+    ``roots.landlock()`` (``urdftool.roots.Roots``: the run's, computed once by the loader)."""
+    if IN_CHILD or not available():
+        return
+    from urdftool.physics import meshes
+
+    _RUN.update(roots=roots)
+    if options is not None:
+        _RUN.update(timeout=options.timeout, memory_mb=options.memory_mb,
+                    allow_env=tuple(options.allow_env))
+    meshes.PARSER = parse_mesh
 
 
-def check_input(path: Path, resolver) -> None:
-    """An untrusted input file itself: inside the package roots (a symlink committed to a
-    repository must not make urdftool read, and quote, a file of the CI machine). Raises
-    ToolError. (That it is a regular file of bounded size, ``source.read_text`` checks.)"""
-    from urdftool.errors import ToolError
-
-    if not inside(path, package_roots(resolver, path)):
-        raise ToolError(f"{path}: links to {Path(path).resolve()}, outside the package roots; "
-                        "--untrusted does not follow it")
-
-
-_RUN: dict = {}  # the limits of the untrusted run in this process (set by confine)
-
-
-def confine(resolver, path: Path, options=None):
-    """A resolver for an untrusted input: a mesh or resource URI that resolves outside the
-    package roots resolves instead to a path under ``REFUSED`` (which does not exist), so the
-    mesh rules report it as missing, with the refusal in the path they name. Mesh files are
-    from now on parsed in the sandboxed reader."""
-    resolver.confined_roots = package_roots(resolver, path)
-    original = resolver.resolve_uri
-
-    def resolve_uri(uri: str, base_dir: Path):
-        found = original(uri, base_dir)
-        if found is None or resolver.allows(found):
-            return found
-        resolved = Path(found).resolve()
-        return REFUSED / resolved.relative_to(resolved.anchor)
-
-    resolver.resolve_uri = resolve_uri
-    if not IN_CHILD and available():
-        from urdftool.physics import meshes
-
-        _RUN.update(roots=resolver.confined_roots)
-        if options is not None:
-            _RUN.update(timeout=options.timeout, memory_mb=options.memory_mb,
-                        allow_env=tuple(options.allow_env))
-        meshes.PARSER = parse_mesh
-    return resolver
+def parse_large_mesh(path: Path, need_volume: bool):
+    """A large mesh (``meshes.LARGE_PARSER``): parsed in the sandboxed reader in every mode,
+    where it can be stopped at --timeout and --memory-limit; None: parse it here (in the
+    reader itself, or where there is no sandbox)."""
+    if IN_CHILD or not available():
+        return None
+    return parse_mesh(path, need_volume)
 
 
 # -- the child process ----------------------------------------------------------------------
@@ -190,9 +147,6 @@ class Child:
         self.layers = {str(k): str(v) for k, v in layers.items()}
         self.start_seconds = time.monotonic() - started
         _notice(self.layers)
-
-    def covers(self, roots: list[Path]) -> bool:
-        return all(any(Path(r).is_relative_to(p) for p in self.read) for r in roots)
 
     def alive(self) -> bool:
         return self.process.poll() is None and self.owner == os.getpid()
@@ -286,30 +240,17 @@ class Child:
 _CHILD: list[Child] = []  # this process's reader (a forked worker starts its own)
 
 
-def expect(paths: list, options) -> None:
-    """The package roots of every file of a run, so that its one reader may read them all
-    (Landlock cannot widen a running reader: without this, each new package would start
-    another)."""
-    from urdftool.packages import PackageResolver
-
-    roots: dict[Path, None] = {}
-    for path in paths:
-        resolver = PackageResolver(options.packages, Path(path))
-        roots.update(dict.fromkeys(package_roots(resolver, Path(path))))
-    _RUN["expected"] = list(roots)
-
-
-def _child(roots: list[Path]) -> Child:
+def _child(roots) -> Child:
+    """The run's reader: Landlock gets exactly ``roots.landlock()`` (the run's roots, without
+    version-control metadata) and the interpreter's files."""
     current = _CHILD[0] if _CHILD else None
     settings = (int(_RUN.get("memory_mb", 1024)), tuple(_RUN.get("allow_env", ())))
-    if current is not None and current.alive() and current.covers(roots) \
+    read = roots.landlock()
+    if current is not None and current.alive() and current.read == read \
             and current.settings == settings and current.cwd == os.getcwd() \
             and current.cpu_seconds() < CHILD_CPU_SECONDS / 2:
         return current
-    read = list(dict.fromkeys([*roots, *_RUN.get("expected", ())]))
     if current is not None:
-        if current.owner == os.getpid() and current.settings == settings:
-            read += [p for p in current.read if not any(p.is_relative_to(r) for r in roots)]
         current.close()
         _CHILD.clear()
     child = Child(read, *settings)
@@ -343,8 +284,7 @@ def _notice(layers: dict[str, str]) -> None:
 
 def load_source(path: Path, options, resolver, kind: str):
     """A xacro or SDF input read, expanded and converted in the sandboxed reader."""
-    from urdftool.model import Loc
-    from urdftool.report import Finding
+    from urdftool.findings import Finding, Loc
     from urdftool.source import Source
     from urdftool.xacro_eval import LimitExceeded
 
@@ -354,21 +294,17 @@ def load_source(path: Path, options, resolver, kind: str):
                "xacro_args": dict(options.xacro_args), "sdf_model": options.sdf_model,
                "sdf_model_paths": list(options.sdf_model_paths),
                "allow_env": list(options.allow_env), "timeout": options.timeout,
-               "overlay": dict(options.overlay), "lenient": options.lenient}
+               "overlay": dict(options.overlay), "lenient": options.lenient,
+               "roots": resolver.roots.to_json()}
     what = "xacro expansion" if kind == "xacro" else "SDF reading"
     limit_rule, failure_rule = (("xacro.limit-exceeded", "xacro.error") if kind == "xacro"
                                 else ("sdf.bad-value", "sdf.bad-value"))
-    model_paths = [*options.sdf_model_paths,
-                   *(entry for name in PATH_VARIABLES[2:]
-                     for entry in os.environ.get(name, "").split(os.pathsep) if entry)]
-    read = [*resolver.confined_roots, *(Path(p).resolve() for p in model_paths)]
     try:
-        answer = _child(read).ask(request, options.timeout, what)
+        answer = _child(resolver.roots).ask(request, options.timeout, what)
         source = source_from_json(answer, str(path))
         # files the reader says it read: inside the roots, or not taken (a fix may write them)
         for files in (source.texts, source.unread):
-            for name in [n for n in files
-                         if not resolver.allows(Path(n).resolve(), tuple(model_paths))]:
+            for name in [n for n in files if not resolver.allows(Path(n))]:
                 del files[name]
         # the reader sees no variable: a default taken for a variable that is not set here
         # is what xacro itself would take, not a finding
@@ -395,10 +331,10 @@ def convert_in_child(path: Path, options, load, resolver):
     request = {"op": "convert", "path": os.fspath(path), "packages": dict(load.packages),
                "model": options.model, "model_paths": list(options.model_paths),
                "package_uris": list(options.package_uris),
-               "output_dir": os.fspath(options.output_dir), "cut_loops": options.cut_loops}
-    read = [*resolver.confined_roots, *(Path(p).resolve() for p in options.model_paths)]
+               "output_dir": os.fspath(options.output_dir), "cut_loops": options.cut_loops,
+               "roots": resolver.roots.to_json()}
     try:
-        answer = _child(read).ask(request, load.timeout, "SDF conversion")
+        answer = _child(resolver.roots).ask(request, load.timeout, "SDF conversion")
         source = source_from_json(answer["source"], str(path))
         refused, choice = answer["refused"], answer["choice"]
         if not (refused is None or isinstance(refused, str)) \
@@ -417,9 +353,9 @@ def parse_mesh(path: Path, need_volume: bool):
     from urdftool.physics import meshes
     from urdftool.xacro_eval import LimitExceeded
 
-    roots = _RUN.get("roots") or [Path(path).resolve().parent]
-    if not inside(path, roots):
-        roots = [*roots, Path(path).resolve().parent]
+    roots = _RUN.get("roots")
+    if roots is None or not roots.readable(path):  # a large mesh of a trusted library call
+        roots = _roots.Roots([Path(path).resolve().parent])
     request = {"op": "mesh", "path": os.fspath(path), "need_volume": need_volume}
     what = f"reading mesh {Path(path).name}"
     try:
@@ -489,8 +425,7 @@ def source_from_json(data, path: str):
     from lxml import etree
 
     from urdftool.edits import Edit
-    from urdftool.model import Loc
-    from urdftool.report import Finding
+    from urdftool.findings import Finding, Loc
     from urdftool.source import Source, _utf8_bytes
     from urdftool.xmlrepair import secure_parser
 

@@ -17,7 +17,7 @@ import os
 import sys
 
 MAX_REQUEST_BYTES = 1 << 20
-LIBRARY_PRELOAD = ("lxml.etree", "yaml", "xacro", "urdftool.source", "urdftool.xacro_expand",
+LIBRARY_PRELOAD = ("lxml.etree", "yaml", "xacro", "urdftool.loader", "urdftool.xacro_expand",
                    "urdftool.sdf")
 
 # errno values (the errno module is tiny, but these are all we need)
@@ -207,7 +207,9 @@ def _load(request: dict) -> dict:
     from pathlib import Path
 
     from urdftool import sandbox
-    from urdftool.source import LoadOptions, load
+    from urdftool.loader import load
+    from urdftool.roots import Roots
+    from urdftool.source import LoadOptions
 
     options = LoadOptions(request["packages"], request["xacro_args"],
                           sdf_model=request.get("sdf_model"),
@@ -215,6 +217,8 @@ def _load(request: dict) -> dict:
                           allow_env=tuple(request["allow_env"]), timeout=request["timeout"])
     options.overlay = {str(k): str(v) for k, v in request.get("overlay", {}).items()}
     options.lenient = request.get("lenient") is True
+    options.roots = Roots.from_json(request["roots"])  # the parent's, computed once
+    options.in_sandbox = True
     source = load(Path(request["path"]), options)
     return sandbox.source_to_json(source)
 
@@ -226,12 +230,13 @@ def _convert(request: dict) -> dict:
 
     from urdftool import sandbox
     from urdftool.packages import PackageResolver
+    from urdftool.roots import Roots
     from urdftool.sdf import ConvertOptions, LoopRefused, ModelChoiceError, convert_guarded
     from urdftool.source import Source, read_text
 
     path = Path(request["path"])
-    resolver = PackageResolver(request["packages"], path)
-    sandbox.confine(resolver, path)
+    resolver = PackageResolver(request["packages"], path, roots=Roots.from_json(request["roots"]),
+                               model_paths=tuple(request["model_paths"]))
     text = read_text(path)
     source = Source(str(path), "sdf", texts={str(path): text}, resolver=resolver)
     options = ConvertOptions(model=request["model"], model_paths=request["model_paths"],

@@ -20,9 +20,8 @@ from lxml import etree
 
 from urdftool.errors import ToolError
 from urdftool.files import read_regular, read_regular_text
-from urdftool.model import Loc
+from urdftool.findings import Finding, Loc
 from urdftool.packages import PackageResolver
-from urdftool.report import Finding
 from urdftool.xmlrepair import repair_and_parse, secure_parser
 
 ROBOT_SUFFIXES = (".urdf", ".xacro", ".sdf")
@@ -41,8 +40,8 @@ DEFAULT_TIMEOUT = 3.0
 
 
 class LoadOptions:
-    __slots__ = ("allow_env", "lenient", "memory_mb", "overlay", "packages", "sdf_model",
-                 "sdf_model_paths", "timeout", "untrusted", "xacro_args")
+    __slots__ = ("allow_env", "in_sandbox", "lenient", "memory_mb", "overlay", "packages",
+                 "roots", "sdf_model", "sdf_model_paths", "timeout", "untrusted", "xacro_args")
 
     def __init__(self, packages: dict[str, str] | None = None,
                  xacro_args: dict[str, str] | None = None, sdf_model: str | None = None,
@@ -65,6 +64,10 @@ class LoadOptions:
         # xacro: an expression naming something undefined is left as written instead of
         # stopping the expansion (a check looking past the error it already reported)
         self.lenient = False
+        # what the run may read (urdftool.roots.Roots): set once by urdftool.loader from the
+        # operator's options and the repository; never from what a repository file says
+        self.roots = None
+        self.in_sandbox = False  # read by the sandboxed reader (its environment is empty)
 
 
 class Source:
@@ -276,45 +279,6 @@ def _qualified_tag(element) -> str:
     except ValueError:  # a name lxml's recovery let through (e.g. "colo:")
         return str(element.tag)
     return f"{element.prefix}:{local}" if element.prefix else local
-
-
-def load(path: str | Path, options: LoadOptions | None = None) -> Source:
-    """Read one robot file into a Source. Raises ToolError when the file cannot be read."""
-    options = options or LoadOptions()
-    file_path = Path(path)
-    if not file_path.exists():
-        raise ToolError(f"{path}: no such file")
-    resolver = PackageResolver(options.packages, file_path)
-    if options.untrusted:  # inside the package roots only; parsing in the sandbox
-        from urdftool import sandbox
-
-        sandbox.check_input(file_path, resolver)
-        sandbox.confine(resolver, file_path, options)
-    text = read_input(file_path, options)
-    kind = detect_kind(file_path, text)
-    if options.untrusted and kind != "urdf" and text.strip() and not sandbox.IN_CHILD \
-            and sandbox.available():  # xacro, YAML, SDF: read in the sandboxed reader
-        return sandbox.load_source(file_path, options, resolver, kind)
-    source = Source(str(path), kind, texts={str(path): text}, resolver=resolver)
-    if not text.strip():
-        parse_text(text, str(path), source)  # reports xml.no-root
-        return source
-    if kind == "urdf":
-        root = parse_text(text, str(path), source)
-        if root is not None:
-            source.root = root
-            source.lines = text.splitlines()
-    elif kind == "xacro":
-        from urdftool.xacro_expand import expand
-
-        expand(source, file_path, options)
-    if kind != "sdf":
-        find_unread(source, options)
-    else:
-        from urdftool.sdf import load_sdf
-
-        load_sdf(source, file_path, text, options)
-    return source
 
 
 # elements whose children are not URDF (an <include> in them is no xacro include)

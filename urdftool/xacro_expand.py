@@ -7,7 +7,8 @@ call handler that records call sites, and a package finder that uses our resolve
 It also makes expansion safe on untrusted files: every expression (``${}``, ``$(eval)``, YAML
 units) is evaluated by ``urdftool.xacro_eval``'s interpreter, never by Python's ``eval``;
 ``xacro.load_yaml`` reads with the safe loader through ``_Policy``; ``$(env)``/``$(optenv)``
-see only ``--allow-env`` variables, files are read only inside the package roots, and a deadline bounds the run. With
+see only ``--allow-env`` variables, files are read only inside the run's roots (``LoadOptions.roots``:
+the repository and the operator's directories), and a deadline bounds the run. With
 ``LoadOptions.untrusted`` the whole xacro pass runs in a child process (``urdftool.sandbox``)
 with a wall-time and memory limit; it hands back the expanded text, tagged with the source
 locations, and the problems found.
@@ -26,8 +27,7 @@ from pathlib import Path
 
 from lxml import etree
 
-from urdftool.model import Loc
-from urdftool.report import Finding
+from urdftool.findings import Finding, Loc
 from urdftool.source import (
     LOC_ATTR,
     VIA_ATTR,
@@ -112,11 +112,12 @@ class Expansion:
 
 
 class OutsidePackage(Exception):
-    """A file outside the package roots, read while expanding an untrusted file."""
+    """A file outside the run's roots (the repository, the operator's directories), named by
+    the file being expanded."""
 
     def __init__(self, path: str):
-        super().__init__(f"{path} is outside the package roots; --untrusted reads only files "
-                         "inside them (give the package with -P NAME=DIR)")
+        super().__init__(f"{path} is outside the repository; urdftool reads only inside it and "
+                         "the operator's directories (-P NAME=DIR, ROS_PACKAGE_PATH)")
         self.path = path
 
 
@@ -143,16 +144,13 @@ class _Reported(Exception):
 @dataclass
 class _Policy:
     deadline: float | None = None  # time.monotonic() after which expansion stops
-    roots: list[Path] | None = None  # files only under these (None: anywhere)
+    roots: object = None  # urdftool.roots.Roots: files only inside them (None: anywhere)
     allow_env: frozenset | None = None  # $(env)/$(optenv) see only these (None: all: tests)
     hidden: list = field(default_factory=list)  # $(optenv NAME) that took its default for it
     refused: set = field(default_factory=set)  # (expression, reason) already reported
 
     def check_path(self, filename: str) -> None:
-        if self.roots is None:
-            return
-        resolved = Path(filename).resolve()
-        if not any(resolved.is_relative_to(root) for root in self.roots):
+        if self.roots is not None and not self.roots.readable(filename):
             raise OutsidePackage(str(filename))
 
 
@@ -372,6 +370,11 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
 
     def get_include_files(filename_spec, symbols):
         matched = list(saved[11](filename_spec, symbols))
+        if policy.roots is not None and (len(matched) != 1 or re.search(
+                "[*[?]+", xacro.eval_text(filename_spec, symbols))):
+            # a pattern: only the files that may be read, so that the answer is the same
+            # whether or not files outside the roots match it
+            matched = [m for m in matched if policy.roots.readable(m)]
         globs.append(not matched)  # only a pattern matches nothing (a name is tried as is)
         return matched
 
@@ -385,7 +388,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             if any(globs) and elt.getAttribute(LOC_ATTR):
                 source.add("xacro.error", Finding(
                     f"xacro: include '{elt.getAttribute('filename')}' matched no file"
-                    + (" inside the package roots" if policy.roots is not None else "")
+                    + (" inside the repository" if policy.roots is not None else "")
                     + "; nothing included", _parse_loc(elt.getAttribute(LOC_ATTR), files),
                     severity="warning"))
             return result
@@ -397,9 +400,10 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
                 raise
             # outside the roots: the include as written, never the file found (a glob would
             # tell which files exist on the machine)
-            message = (f"include '{elt.getAttribute('filename')}' is outside the package roots; "
-                       "--untrusted reads only files inside them (give the package with "
-                       "-P NAME=DIR)") if outside else str(exc).strip()
+            message = (f"include '{elt.getAttribute('filename')}' is outside the repository; "
+                       "urdftool reads only inside it and the operator's directories (give the "
+                       "package with -P NAME=DIR or ROS_PACKAGE_PATH)") if outside \
+                else str(exc).strip()
             source.add("xacro.error", Finding(f"xacro: {message}; skipped, the rest is "
                                      "expanded without it", _parse_loc(exc.urdftool_loc, files)))
             xacro.replace_node(elt, by=None)
@@ -408,7 +412,9 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         directory = source.resolver.find(package) if source.resolver else None
         if directory is None:
             raise xacro.XacroException(
-                f"package '{package}' not found (give it with -P {package}=DIR)")
+                f"package '{package}' not found (looked in: "
+                f"{source.resolver.tried() if source.resolver else '-P'}; give it with "
+                f"-P {package}=DIR, or put the directory holding it on ROS_PACKAGE_PATH)")
         return str(directory)
 
     def safe_eval(expr, globals, locals=None):
@@ -538,19 +544,17 @@ def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Polic
                 work.add("xacro.error", Finding(f"xacro: {message}", loc))
             elif not work.problems:
                 work.add("xacro.error", Finding(f"xacro: {type(exc).__name__}: {exc}", loc))
-    _report_hidden(work, policy.hidden)
+    _report_hidden(work, policy.hidden, getattr(options, "in_sandbox", False))
     return Expansion(expanded, list(files.paths), [_one_line(rule, f) for rule, f in work.problems],
                      work.texts, sorted(work.reads))
 
 
-def _report_hidden(work: Source, names: list[str]) -> None:
+def _report_hidden(work: Source, names: list[str], in_sandbox: bool = False) -> None:
     """``xacro.env-not-allowed`` for each ``$(optenv NAME default)`` that took its default
     because urdftool hides NAME (in every mode, unless --allow-env names it), at its first use, when NAME is set (in the sandboxed
     reader, where nothing is set, the parent keeps those whose variable it has)."""
-    from urdftool import sandbox
-
     for name in dict.fromkeys(names):
-        if not sandbox.IN_CHILD and name not in os.environ:
+        if not in_sandbox and name not in os.environ:
             continue  # not set: the default is what xacro itself would take
         loc = Loc(work.path, None, None)
         for shown, text in work.texts.items():
@@ -574,23 +578,15 @@ def _one_line(rule: str, finding: Finding) -> tuple[str, Finding]:
 
 def expand(source: Source, path: Path, options: LoadOptions) -> None:
     """Expand ``path`` into ``source.root`` with locations in ``source.locs``; xacro errors
-    become ``xacro.*`` problems at the line where they happened. With ``options.untrusted``
-    the xacro pass runs in a sandboxed child process."""
+    become ``xacro.*`` problems at the line where they happened (in this process: the loader
+    decides where, ``urdftool.loader``)."""
     timeout = getattr(options, "timeout", None)
-    untrusted = getattr(options, "untrusted", False)
     deadline = time.monotonic() + timeout if timeout else None
-    if untrusted:  # in the sandboxed reader (urdftool.sandbox): files and variables confined
-        roots = source.resolver.confined_roots if source.resolver is not None else None
-        if roots is None:
-            from urdftool.sandbox import package_roots
-
-            roots = package_roots(source.resolver, path)
-        result = _xacro_pass(source, path, options,
-                             _Policy(deadline, roots, frozenset(options.allow_env)))
-    else:
-        # your own files, in this process: still no variable unless --allow-env names it
-        result = _xacro_pass(source, path, options,
-                             _Policy(deadline, allow_env=frozenset(options.allow_env)))
+    # files only inside the run's roots (urdftool.loader), in every mode; variables only
+    # the --allow-env ones
+    result = _xacro_pass(source, path, options,
+                         _Policy(deadline, getattr(options, "roots", None),
+                                 frozenset(options.allow_env)))
     source.problems.extend(result.problems)
     source.reads.update(result.reads)
     for shown, text in result.texts.items():

@@ -27,8 +27,7 @@ from collections import deque
 
 from lxml import etree
 
-from urdftool.model import Loc
-from urdftool.report import Finding
+from urdftool.findings import Finding, Loc
 
 MAX_REPAIRS = 200  # recognised breakages per file; then stop and let the parser speak
 MAX_ROUNDS = 8  # scan -> edit -> strict parse rounds

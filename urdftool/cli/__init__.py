@@ -181,8 +181,8 @@ def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | Non
     A file too broken to give a robot is an error (exit 2) located at the first problem."""
     from urdftool.check import REFUSING_RULES
     from urdftool.display import diagnostic_line
+    from urdftool.loader import load
     from urdftool.model import build_robot
-    from urdftool.source import load
 
     source = load(path, load_options(packages, xacro_args or {}))
     robot = build_robot(source)

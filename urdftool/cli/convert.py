@@ -56,15 +56,17 @@ def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, 
     path = Path(paths[0])
     if not path.exists():
         raise ToolError(f"{path}: no such file")
-    from urdftool.packages import PackageResolver
+    from urdftool import loader
 
     load = load_options(packages, {})
-    resolver = PackageResolver(load.packages, path)
-    if load.untrusted:  # includes and meshes only inside the package roots
+    load.sdf_model_paths = list(model_paths)  # the operator's: roots of the run
+    load.roots = loader.run_roots([path], load)
+    resolver = loader.resolver_for(path, load)  # includes and meshes inside the run's roots
+    loader.check_input(path, load.roots)
+    if load.untrusted:
         from urdftool import sandbox
 
-        sandbox.check_input(path, resolver)
-        sandbox.confine(resolver, path, load)
+        sandbox.use_for_meshes(load.roots, load)
     text = read_text(path)
     if detect_kind(path, text) != "sdf":
         raise ToolError(f"{path}: not an SDFormat file (no <sdf> element)")

@@ -58,8 +58,8 @@ def command(ctx, inputs, packages, output, fmt):
     from urdftool.cli import print_finding
     from urdftool.display import json_safe, xml_guard
     from urdftool.errors import ToolError
+    from urdftool.loader import load
     from urdftool.output import write_output
-    from urdftool.source import load
 
     paths, xacro_args = split_args(inputs)
     if len(paths) != 1:

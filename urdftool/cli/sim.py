@@ -105,7 +105,8 @@ def command(inputs, duration, rate, fixed_base, allow_collision, srdf, no_srdf,
     run.
     """
     from urdftool.errors import ToolError
-    from urdftool.sim import SimOptions, simulate
+    from urdftool.sim import SimOptions
+    from urdftool.sim.runner import simulate
 
     paths, xacro_args = split_args(inputs)
     if not paths:

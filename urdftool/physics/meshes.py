@@ -31,6 +31,9 @@ LOADS = 0  # how many files were actually read (cache misses)
 # parses a file (path, need_volume) -> MeshInfo instead of this process: set by
 # urdftool.sandbox under --untrusted (the sandboxed reader runs ``_load``)
 PARSER = None
+# parses a large file (path, need_volume) -> MeshInfo, or None to parse it here: set by the
+# loader (the sandboxed reader in every mode, see IN_PROCESS_BYTES)
+LARGE_PARSER = None
 MAX_MESH_BYTES = 64 << 20  # a mesh file, or what a compressed one (.zae, .3mf) unpacks to
 MAX_TRIANGLES = 5_000_000
 TRANSIENT = "sandboxed reader: "  # an error of the reader, not of the file: never stored
@@ -225,11 +228,10 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
     LOADS += 1
     if PARSER is not None:
         return PARSER(path, need_volume)
-    if _large(path):  # trusted too: a parse that can be stopped at --timeout and --memory-limit
-        from urdftool import sandbox
-
-        if sandbox.available() and not sandbox.IN_CHILD:
-            return sandbox.parse_mesh(path, need_volume)
+    if LARGE_PARSER is not None and _large(path):  # trusted too: a parse that can be stopped
+        info = LARGE_PARSER(path, need_volume)  # at --timeout and --memory-limit
+        if info is not None:
+            return info
     with _LibraryLog() as log:
         try:
             _check_size(path)

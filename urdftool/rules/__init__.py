@@ -11,8 +11,8 @@ import importlib
 from collections.abc import Callable, Iterable
 from typing import NamedTuple
 
+from urdftool.findings import SEVERITIES, Finding
 from urdftool.model import Robot
-from urdftool.report import SEVERITIES, Finding
 
 Check = Callable[[Robot], Iterable[Finding]]  # a rule's function (annotations here are evaluated)
 

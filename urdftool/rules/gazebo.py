@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import math
 
+from urdftool.findings import Finding
 from urdftool.model import Robot
-from urdftool.report import Finding
 from urdftool.rules import rename_edits, rule
 
 # plugin parameters whose text names joints (comma-separated lists allowed, e.g. jointName)
@@ -424,10 +424,11 @@ def _text_edits(robot: Robot, *changes) -> tuple:
 
 def _origin_loc(robot: Robot, joint):
     """Where a joint's <origin> was written (the joint itself when it has none)."""
-    from urdftool.rules.joint import child, joint_elements
-
-    for candidate, element in joint_elements(robot):
+    elements = robot.elements("joint")
+    if len(elements) != len(robot.joints):  # cannot happen with build_robot
+        return joint.loc
+    for candidate, element in zip(robot.joints, elements):
         if candidate is joint:
-            origin = child(element, "origin")
+            origin = next((node for node in element if node.tag == "origin"), None)
             return robot.loc(origin) if origin is not None else joint.loc
     return joint.loc

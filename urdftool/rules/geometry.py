@@ -11,8 +11,8 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 
+from urdftool.findings import Finding
 from urdftool.physics.inertia import rpy_matrix
-from urdftool.report import Finding
 from urdftool.rules import child_loc, rule, value_edits
 
 HUGE = 1e9  # metres: bounds beyond this are not a robot

@@ -19,9 +19,9 @@ from __future__ import annotations
 
 import math
 
+from urdftool.findings import Finding
 from urdftool.physics import links as analysis
 from urdftool.physics.links import AXIS_NAMES
-from urdftool.report import Finding
 from urdftool.rules import child_loc, rule, value_edits
 
 _INERTIA = '<inertia ixx="{0}" ixy="0" ixz="0" iyy="{1}" iyz="0" izz="{2}"/>'

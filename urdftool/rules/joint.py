@@ -21,8 +21,8 @@ from __future__ import annotations
 import math
 
 from urdftool.edits import number
+from urdftool.findings import Finding
 from urdftool.model import Joint, Robot
-from urdftool.report import Finding
 from urdftool.rules import rule, value_edits
 
 TWO_PI = 2.0 * math.pi

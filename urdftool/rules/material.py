@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import math
 
+from urdftool.findings import Finding
 from urdftool.model import Robot, parse_float
-from urdftool.report import Finding
 from urdftool.rules import did_you_mean, rule, value_edits
 
 

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import math
 
+from urdftool.findings import Finding
 from urdftool.packages import is_file
 from urdftool.physics import links as analysis
-from urdftool.report import Finding
 from urdftool.rules import rule
 
 
@@ -76,7 +76,8 @@ def unresolved(robot):
         elif kind == "package":
             yield Finding(f"{_what(a, info)} mesh {uri!r}: package '{name}' is not found{more}, "
                           f"so {_SKIPPED}", _loc(info),
-                          hint=f"pass -P {name}=DIR, or set ROS_PACKAGE_PATH")
+                          hint=f"pass -P {name}=DIR, or put the directory holding it on "
+                               "ROS_PACKAGE_PATH" + _tried(robot))
         elif name == "model":
             yield Finding(f"{_what(a, info)} mesh {uri!r}{more}: model:// is resolved by Gazebo "
                           "alone (from its resource path); other URDF tools cannot read it, "
@@ -115,6 +116,13 @@ def not_found(robot):
                 edits = (made,) if made is not None else ()
             yield Finding(f"{_what(a, info)} mesh {info.shape.geometry.filename!r}: no file "
                           f"at {info.path}", _loc(info), hint=hint, edits=edits)
+
+
+def _tried(robot) -> str:
+    """Where the package was looked for (``PackageResolver.tried``)."""
+    resolver = robot.source.resolver if robot.source is not None else None
+    tried = getattr(resolver, "tried", None)
+    return f" (looked in: {tried()})" if tried is not None else ""
 
 
 def _twin(path):

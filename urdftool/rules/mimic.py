@@ -10,9 +10,9 @@ planners reject the state).
 
 from __future__ import annotations
 
+from urdftool.findings import Finding
 from urdftool.limits import composed, mimic_chain, mimic_image, tolerance
 from urdftool.model import Robot
-from urdftool.report import Finding
 from urdftool.rules import rename_edits, rule, value_edits
 from urdftool.rules.joint import fmt, label
 

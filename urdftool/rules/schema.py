@@ -22,8 +22,7 @@ import json
 import re
 from pathlib import Path
 
-from urdftool.model import Loc
-from urdftool.report import Finding
+from urdftool.findings import Finding, Loc
 from urdftool.rules import rule
 
 SCHEMA_PATH = Path(__file__).resolve().parent.parent / "schemas" / "urdf.json"

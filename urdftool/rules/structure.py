@@ -13,7 +13,7 @@ from __future__ import annotations
 import functools
 from collections.abc import Iterator
 
-from urdftool.report import Finding
+from urdftool.findings import Finding
 from urdftool.rules import did_you_mean, rule, value_edits
 
 

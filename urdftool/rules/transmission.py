@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import math
 
+from urdftool.findings import Finding
 from urdftool.model import Robot
-from urdftool.report import Finding
 from urdftool.rules import rename_edits, rule
 
 ROS1_INTERFACES = (

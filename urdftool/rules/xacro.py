@@ -17,8 +17,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from urdftool.findings import Finding
 from urdftool.model import Robot
-from urdftool.report import Finding
 from urdftool.rules import rule, source_rule
 from urdftool.source import FOREIGN_BLOCKS
 
@@ -255,7 +255,7 @@ def _unprefixed_in_unread_files(robot: Robot):
     from lxml import etree
 
     from urdftool.edits import declare_namespace, rename_element
-    from urdftool.model import Loc
+    from urdftool.findings import Loc
     from urdftool.xmlrepair import secure_parser
 
     if robot.root is None or next(robot.root.iter("include"), None) is None:

@@ -10,8 +10,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from urdftool.model import Loc
-from urdftool.report import Finding
+from urdftool.findings import Finding, Loc
 from urdftool.sdf.builder import (
     Builder,
     ConvertOptions,
@@ -74,7 +73,7 @@ def convert_source(source, path: Path, text: str, options: ConvertOptions):
 
 
 def load_sdf(source, path: Path, text: str, options) -> None:
-    """Called by ``urdftool.source.load`` for SDF input. Never raises on bad input."""
+    """Called by ``urdftool.loader.load`` for SDF input. Never raises on bad input."""
     convert_options = ConvertOptions(
         model=getattr(options, "sdf_model", None),
         model_paths=list(getattr(options, "sdf_model_paths", None) or []),

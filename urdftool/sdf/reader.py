@@ -18,8 +18,7 @@ from pathlib import Path
 from lxml import etree
 
 from urdftool.errors import ToolError
-from urdftool.model import Loc
-from urdftool.report import Finding
+from urdftool.findings import Finding, Loc
 from urdftool.sdf.schema import SPEC
 from urdftool.sdf.transforms import IDENTITY, Transform
 from urdftool.source import _column
@@ -466,9 +465,9 @@ class Reader:
             self.report("sdf.include", f"cannot resolve include '{uri}' (model paths: {where})",
                         include, hint=hint)
             return None
-        if not self._allowed(target):
-            self.report("sdf.include", f"include '{uri}' resolves to {target}, outside the "
-                        "package roots; --untrusted does not read it", include,
+        if not self._allowed(target):  # the URI as written, never where it resolves
+            self.report("sdf.include", f"include '{uri}' is outside the repository; urdftool "
+                        "reads only inside it and the operator's directories", include,
                         hint="give the models' folder with --model-path DIR")
             return None
         file = self._model_file(target)
@@ -477,8 +476,8 @@ class Reader:
                         hint="a model folder holds model.config and model.sdf")
             return None
         if not self._allowed(file):  # model.config may name a file anywhere
-            self.report("sdf.include", f"include '{uri}': its model.config names {file}, "
-                        "outside the package roots; --untrusted does not read it", include)
+            self.report("sdf.include", f"include '{uri}': its model.config names a file "
+                        "outside the repository; urdftool does not read it", include)
             return None
         if file.resolve() in self._include_stack or len(self._include_stack) >= MAX_INCLUDE_DEPTH:
             self.report("sdf.include", f"include '{uri}' includes itself (through {file})", include)
@@ -516,11 +515,11 @@ class Reader:
             self._include_stack.pop()
 
     def _allowed(self, path: Path) -> bool:
-        """Under --untrusted, includes are read only inside the package roots and the model
-        paths the user gave (--model-path, GZ_SIM_RESOURCE_PATH...), never where the input
+        """Includes are read only inside the run's roots (the repository, the model paths
+        the operator gave: --model-path, GZ_SIM_RESOURCE_PATH...), never where the input
         points (an absolute path, ``../..``, a symlink)."""
         resolver = self.source.resolver
-        return resolver is None or resolver.allows(path, tuple(self.model_paths))
+        return resolver is None or resolver.allows(path)
 
     def search_dirs(self, base: Path) -> list[Path]:
         return [*self.model_paths, base, base.parent]
@@ -544,13 +543,19 @@ class Reader:
             package, _, inner = rest.partition("/")
             resolver = self.source.resolver
             found = resolver.find(package) if resolver is not None else None
+            if found is not None and not self._allowed(found / inner):
+                return found / inner  # refused by the caller, unlooked at
             return (found / inner) if found is not None and (found / inner).exists() else None
-        if os.path.isabs(uri):
-            return Path(uri) if Path(uri).exists() else None
+        if os.path.isabs(uri):  # outside the roots: refused by the caller, never looked at
+            return Path(uri) if not self._allowed(Path(uri)) or Path(uri).exists() else None
         # a relative path or a bare model name: beside the file, then on the model paths
         # (libsdformat's findFile: the local path, SDF_PATH, then the simulator's resource paths)
         for directory in (base, *self.model_paths):
             candidate = directory / uri
+            if not self._allowed(candidate):
+                if directory is base:
+                    return candidate  # refused by the caller, never looked at
+                continue
             if candidate.exists():
                 return candidate
         return None

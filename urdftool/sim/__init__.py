@@ -1,6 +1,6 @@
 """`urdftool sim`: a short PyBullet physics smoke test per model, with a verdict.
 
-The library side of the command. ``simulate(paths, options)`` runs every model in worker
+The library side of the command. ``runner.simulate(paths, options)`` runs every model in worker
 processes (PyBullet crashes or prints from C; neither may reach our stdout or take the run down)
 and returns one ``ModelResult`` per model, each with its ``sim.*`` check results. Nothing here
 prints or exits; nothing here imports pybullet or pinocchio at module level (``check`` never
@@ -109,13 +109,3 @@ class ModelResult:
         data = asdict(self)
         data["verdict"] = self.verdict
         return data
-
-
-def simulate(paths: list[str], options: SimOptions | None = None,
-             progress=None) -> list[ModelResult]:
-    """Simulate every robot file under ``paths`` (directories searched like ``check``).
-    Raises ToolError when there is nothing to simulate or a file cannot be read.
-    ``progress(done, total)`` is called as models finish."""
-    from urdftool.sim.runner import run_all
-
-    return run_all(paths, options or SimOptions(), progress)

@@ -22,8 +22,9 @@ from pathlib import Path
 from lxml import etree
 
 from urdftool.errors import ToolError
+from urdftool.loader import load
 from urdftool.model import Loc, Robot, build_robot
-from urdftool.source import LoadOptions, load
+from urdftool.source import LoadOptions
 
 REVOLUTE = ("revolute", "continuous")
 CONTROLLED = ("revolute", "continuous", "prismatic")

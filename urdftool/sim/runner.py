@@ -142,3 +142,11 @@ def require_pybullet() -> None:
 
     if importlib.util.find_spec("pybullet") is None:
         raise ToolError("'sim' needs the 'pybullet' module: pip install 'urdftool[sim]'")
+
+
+def simulate(paths: list[str], options: SimOptions | None = None,
+             progress=None) -> list[ModelResult]:
+    """Simulate every robot file under ``paths`` (directories searched like ``check``).
+    Raises ToolError when there is nothing to simulate or a file cannot be read.
+    ``progress(done, total)`` is called as models finish."""
+    return run_all(paths, options or SimOptions(), progress)

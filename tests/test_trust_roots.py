@@ -1,0 +1,205 @@
+"""Issue 20: one trust model. What a run may read is decided once (``urdftool.loader``) from the
+operator (-P, --model-path, the package and model path variables) and the repository (its
+version-control root); nothing a repository file says widens it. Attacked here with real
+files in real git repositories, through every output format, ``--changed``, and both modes
+(the answer is the same in both: one verdict)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+from conftest import run_urdftool
+
+from urdftool.roots import OutsideRepository, Roots, clamp, repository_of
+
+SECRET = "hunter2"
+HEAD = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+TAIL = '  <link name="base"/>\n</robot>\n'
+MODES = ("--untrusted", "--trusted")
+FORMATS = ("text", "json", "github", "sarif")
+
+
+def _git_repo(tmp_path: Path) -> tuple[Path, Path]:
+    """(a git checkout holding a description package, a directory of the machine outside it
+    holding secrets)."""
+    repo = tmp_path / "checkout"
+    package = repo / "robot_description"
+    (package / "urdf").mkdir(parents=True)
+    (package / "package.xml").write_text("<package><name>robot_description</name></package>")
+    subprocess.run(["git", "init", "-q", str(repo)], check=True)
+    (repo / ".git" / "config").write_text(
+        f"[http]\n\textraheader = AUTHORIZATION: basic {SECRET}\n", encoding="utf-8")
+    outside = tmp_path / "outside"
+    (outside / "evil").mkdir(parents=True)
+    (outside / "evil" / "package.xml").write_text("<package><name>evil</name></package>")
+    (outside / "evil" / "secret.yaml").write_text(f"token: {SECRET}\n")
+    (outside / "secret.xacro").write_text(HEAD + f'  <link name="{SECRET}"/>\n</robot>\n')
+    return repo, outside
+
+
+def _run(*args, cwd: Path, monkeypatch):
+    monkeypatch.chdir(cwd)
+    return run_urdftool(*args)
+
+
+def _all_output(result) -> str:
+    return result.out + result.err
+
+
+@pytest.mark.parametrize("value", ["../outside/evil", "/", "../outside/missing", "../../"])
+def test_configuration_packages_outside_the_repository_are_refused(value, tmp_path,
+                                                                   monkeypatch):
+    """The critical hole: ``packages`` in the repository's urdftool.toml was a -P. A value
+    outside the repository is a one-line error naming the key and the value as written,
+    whatever is there; nothing is read, in any mode or format."""
+    repo, outside = _git_repo(tmp_path)
+    (repo / "urdftool.toml").write_text(f'[packages]\nevil = "{value}"\n')
+    robot = repo / "robot_description" / "urdf" / "robot.urdf.xacro"
+    robot.write_text(HEAD + "  <link name=\"${xacro.load_yaml('$(find evil)/secret.yaml')"
+                     "['token']}\"/>\n" + TAIL)
+    answers = set()
+    for mode in MODES:
+        for fmt in FORMATS:
+            result = _run("check", mode, "--format", fmt, "robot_description", cwd=repo,
+                          monkeypatch=monkeypatch)
+            assert result.code == 2, result
+            assert SECRET not in _all_output(result)
+            (line,) = result.err.strip().splitlines()
+            assert "packages.evil" in line and "outside the repository" in line
+            assert str(outside) not in line and "Traceback" not in line
+            answers.add(line.replace(value, "VALUE"))
+    assert len(answers) == 1  # the same in every mode and format
+
+
+def test_a_configuration_value_outside_answers_the_same_whether_it_exists(tmp_path,
+                                                                         monkeypatch):
+    """No existence oracle: ``entries``, ``packages`` and ``baseline`` naming a file outside
+    the repository say the same bytes whether or not the file is there."""
+    repo, _ = _git_repo(tmp_path)
+    robot = repo / "robot_description" / "urdf" / "robot.urdf"
+    robot.write_text('<robot name="r"><link name="a"/></robot>')
+    for key, template in (("entries", 'entries = ["{}"]\n'),
+                          ("packages.evil", '[packages]\nevil = "{}"\n'),
+                          ("baseline", 'baseline = "{}"\n')):
+        answers = []
+        for target in ("../outside/secret.xacro", "../outside/no-such-file.xacro"):
+            (repo / "urdftool.toml").write_text(template.format(target))
+            result = _run("check", "robot_description", cwd=repo, monkeypatch=monkeypatch)
+            assert result.code == 2 and key in result.err, (key, result)
+            answers.append(result.err.replace("no-such-file", "secret"))
+        assert answers[0] == answers[1], key
+
+
+def test_a_link_in_the_repository_to_outside_is_refused_as_written(tmp_path, monkeypatch):
+    """A directory committed as a symlink to the machine: a configuration naming it, a mesh
+    under it and an include through it are refused, and the report names the path as
+    written, never where the link leads."""
+    repo, outside = _git_repo(tmp_path)
+    package = repo / "robot_description"
+    (package / "meshes").symlink_to(outside / "evil")
+    (outside / "evil" / "part.stl").write_text("solid s\nendsolid s\n")
+    robot = package / "urdf" / "robot.urdf.xacro"
+    robot.write_text(HEAD + '  <xacro:include filename="../meshes/secret.yaml"/>\n'
+                     '  <link name="a"><visual><geometry><mesh filename="../meshes/part.stl"/>'
+                     '</geometry></visual></link>\n' + TAIL)
+    for mode in MODES:
+        result = _run("check", mode, "--format", "json", "robot_description", cwd=repo,
+                      monkeypatch=monkeypatch)
+        assert SECRET not in result.out
+        messages = [d["message"] for f in json.loads(result.out)["files"]
+                    for d in f["diagnostics"]]
+        assert any("../meshes/secret.yaml" in m and "outside the repository" in m
+                   for m in messages), messages
+        (mesh,) = [m for m in messages if "part.stl" in m]
+        assert "robot_description/meshes/part.stl" in mesh and str(outside) not in mesh
+    (repo / "urdftool.toml").write_text('[packages]\nevil = "robot_description/meshes"\n')
+    result = _run("check", "robot_description", cwd=repo, monkeypatch=monkeypatch)
+    assert result.code == 2 and "packages.evil" in result.err and str(outside) not in result.err
+
+
+@pytest.mark.parametrize("payload", [
+    "  <link name=\"${xacro.load_yaml('../../.git/config')}\"/>\n",
+    '  <xacro:include filename="../../.git/config"/>\n',
+    '  <xacro:include filename="../../.git/*"/>\n',
+    '  <xacro:include filename="$(find robot_description)/../.git/config"/>\n',
+])
+def test_version_control_metadata_is_never_read(payload, tmp_path, monkeypatch):
+    """``.git/config`` is where a CI checkout keeps its token: inside the repository, never
+    readable (in-process and in the sandboxed reader, in both modes)."""
+    repo, _ = _git_repo(tmp_path)
+    robot = repo / "robot_description" / "urdf" / "robot.urdf.xacro"
+    robot.write_text(HEAD + payload + TAIL)
+    for mode in MODES:
+        for fmt in ("json", "github"):
+            result = _run("check", mode, "--format", fmt, "robot_description", cwd=repo,
+                          monkeypatch=monkeypatch)
+            assert SECRET not in _all_output(result) and "AUTHORIZATION" not in result.out
+        expanded = _run("expand", mode, str(robot), cwd=repo, monkeypatch=monkeypatch)
+        assert SECRET not in _all_output(expanded)
+    (repo / "urdftool.toml").write_text('[packages]\ngit = ".git"\n')
+    result = _run("check", "robot_description", cwd=repo, monkeypatch=monkeypatch)
+    assert result.code == 2 and "packages.git" in result.err
+
+
+def test_an_include_glob_outside_answers_the_same_whether_files_match(tmp_path, monkeypatch):
+    repo, outside = _git_repo(tmp_path)
+    robot = repo / "robot_description" / "urdf" / "robot.urdf.xacro"
+    answers = []
+    for pattern in ("secret*.xacro", "nothing*.xacro"):
+        robot.write_text(HEAD + f'  <xacro:include filename="{outside}/{pattern}"/>\n' + TAIL)
+        for mode in MODES:
+            result = _run("check", mode, "--format", "json", "robot_description", cwd=repo,
+                          monkeypatch=monkeypatch)
+            assert SECRET not in result.out
+            answers.append(result.out.replace(pattern, "PATTERN"))
+    assert len(set(answers)) == 1
+
+
+def test_changed_mode_holds_the_same_roots(tmp_path, monkeypatch):
+    """``--changed`` (the hook, the Action) reads through the same roots."""
+    repo, _ = _git_repo(tmp_path)
+    (repo / "urdftool.toml").write_text('[packages]\nevil = "../outside/evil"\n')
+    robot = repo / "robot_description" / "urdf" / "robot.urdf.xacro"
+    robot.write_text(HEAD + "  <link name=\"${xacro.load_yaml('$(find evil)/secret.yaml')"
+                     "['token']}\"/>\n" + TAIL)
+    for mode in MODES:
+        result = _run("check", mode, "--changed", "robot_description/urdf/robot.urdf.xacro",
+                      cwd=repo, monkeypatch=monkeypatch)
+        assert result.code == 2 and "packages.evil" in result.err
+        assert SECRET not in _all_output(result)
+
+
+def test_the_operator_widens_the_roots(tmp_path, monkeypatch):
+    """What the repository may not do, the operator may: -P and ROS_PACKAGE_PATH."""
+    repo, outside = _git_repo(tmp_path)
+    robot = repo / "robot_description" / "urdf" / "robot.urdf.xacro"
+    robot.write_text(HEAD + "  <link name=\"l_${xacro.load_yaml('$(find evil)/secret.yaml')"
+                     "['token']}\"/>\n" + TAIL)
+    for mode in MODES:
+        given = _run("expand", mode, "-P", f"evil={outside / 'evil'}", str(robot), cwd=repo,
+                     monkeypatch=monkeypatch)
+        assert f"l_{SECRET}" in given.out, given
+        monkeypatch.setenv("ROS_PACKAGE_PATH", str(outside))
+        crawled = _run("expand", mode, str(robot), cwd=repo, monkeypatch=monkeypatch)
+        assert f"l_{SECRET}" in crawled.out, crawled
+        monkeypatch.delenv("ROS_PACKAGE_PATH")
+
+
+def test_roots_unit(tmp_path):
+    repo, outside = _git_repo(tmp_path)
+    assert repository_of(repo / "robot_description" / "urdf") == repo.resolve()
+    roots = Roots([repo], [outside / "evil"])
+    assert roots.readable(repo / "robot_description" / "package.xml")
+    assert not roots.readable(repo / ".git" / "config")
+    assert not roots.readable(outside / "secret.xacro")
+    assert roots.readable(outside / "evil" / "secret.yaml")
+    assert repo / ".git" not in roots.landlock() and repo / "robot_description" in roots.landlock()
+    with pytest.raises(OutsideRepository) as refused:
+        clamp("../outside", repo, "packages.x", repo)
+    assert str(outside) not in str(refused.value) and "'../outside'" in str(refused.value)
+    assert os.fspath(clamp("robot_description", repo, "k", repo)) == str(
+        (repo / "robot_description").resolve())

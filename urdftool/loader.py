@@ -1,0 +1,161 @@
+"""The loader (issue 20): the one place that decides what a run may read and how it is read.
+
+- ``run_roots(paths, options)``: the roots of a run (``urdftool.roots.Roots``), computed once
+  from two sources only: the operator (``-P``, ``--model-path``, the package and model path
+  variables of the environment) and the repository of each path the operator gave. Nothing a
+  repository file says (configuration, includes, launch files, model paths) widens them.
+- ``load(path, options)``: one robot file into a ``Source``, in this process or (untrusted
+  xacro, YAML and SDF) in the sandboxed reader (``urdftool.sandbox``), which lives in this
+  layer and calls the readers.
+- ``files_read()``: every file the run read (realpaths): inputs, includes, YAML, meshes,
+  configuration, baseline, package.xml; the one writer refuses to write over any of them.
+
+The readers below (``source``, ``xacro_expand``, ``sdf``, ``physics.meshes``, ``packages``,
+``launch``, ``config``) never import this module or the sandbox.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from urdftool import files
+from urdftool.errors import ToolError
+from urdftool.packages import PackageResolver
+from urdftool.physics import meshes
+from urdftool.roots import MODEL_VARIABLES, PATH_VARIABLES, Roots, repository_for
+from urdftool.source import LoadOptions, Source, detect_kind, find_unread, parse_text, read_input
+
+EXAMPLES = Path(__file__).resolve().parent / "physics" / "examples"  # the rule docs' meshes
+_ROOTS: dict[tuple, Roots] = {}
+
+
+def operator_paths(options: LoadOptions | None, environ=None) -> list[str]:
+    """The directories the operator names: ``-P`` values, ``--model-path``, and every entry of
+    the package and model path variables."""
+    environ = os.environ if environ is None else environ
+    found = [*(options.packages.values() if options is not None else ()),
+             *(options.sdf_model_paths if options is not None else ())]
+    for variable in PATH_VARIABLES:
+        found.extend(entry for entry in environ.get(variable, "").split(os.pathsep) if entry)
+    return found
+
+
+def model_paths(options: LoadOptions | None, environ=None) -> list[str]:
+    """Where ``model://`` is looked for: ``--model-path``, then the model path variables."""
+    environ = os.environ if environ is None else environ
+    found = list(options.sdf_model_paths) if options is not None else []
+    for variable in MODEL_VARIABLES:
+        found.extend(entry for entry in environ.get(variable, "").split(os.pathsep) if entry)
+    return found
+
+
+def run_roots(paths, options: LoadOptions | None = None, environ=None) -> Roots:
+    """The roots of a run over ``paths`` (the files and directories the operator gave),
+    memoised per process. ``options.packages`` must be the operator's (-P), not a
+    configuration's: call this before the configuration is merged (``check.check_paths``)."""
+    environ = os.environ if environ is None else environ
+    operator = operator_paths(options, environ)
+    key = (tuple(os.path.abspath(os.fspath(p)) for p in paths), tuple(operator))
+    roots = _ROOTS.get(key)
+    if roots is None:
+        repositories = [repository_for(p) for p in paths]
+        roots = _ROOTS[key] = Roots(repositories, [*operator, EXAMPLES])
+    return roots
+
+
+def roots_of(path, options: LoadOptions) -> Roots:
+    """``options.roots`` (the run's), or the roots of a run over ``path`` alone."""
+    return options.roots if options.roots is not None else run_roots([path], options)
+
+
+def resolver_for(path, options: LoadOptions) -> PackageResolver:
+    """The package resolver of one input, bounded by the run's roots."""
+    return PackageResolver(options.packages, Path(path), roots=roots_of(path, options),
+                           model_paths=tuple(model_paths(options)))
+
+
+def check_input(path, roots: Roots) -> None:
+    """An input file itself must be inside the roots (a link committed to a repository must
+    not make urdftool read, and quote, a file of the machine): ToolError naming the path as
+    given, never where it leads."""
+    if not roots.readable(path):
+        raise ToolError(f"{path}: outside the repository and the operator's directories (a "
+                        "link out of it, or version-control metadata); not read")
+
+
+def _parse_large_mesh(path, need_volume):
+    from urdftool import sandbox
+
+    return sandbox.parse_large_mesh(path, need_volume)
+
+
+meshes.LARGE_PARSER = _parse_large_mesh
+
+_FILES_READ: set[str] = set()
+
+
+def note_read(names) -> None:
+    for name in names:
+        try:
+            _FILES_READ.add(os.path.realpath(name))
+        except (OSError, ValueError):
+            continue
+
+
+def files_read() -> set[str]:
+    """Realpaths of every file this process read for the run (and the sandboxed reader
+    reported reading)."""
+    return _FILES_READ | files.READ | set(meshes._CACHE)
+
+
+def load(path: str | Path, options: LoadOptions | None = None) -> Source:
+    """Read one robot file into a Source. Raises ToolError when the file cannot be read."""
+    options = options or LoadOptions()
+    file_path = Path(path)
+    if not file_path.exists():
+        raise ToolError(f"{path}: no such file")
+    resolver = resolver_for(file_path, options)
+    check_input(file_path, resolver.roots)
+    if options.roots is None:
+        options = _with_roots(options, resolver.roots)
+    text = read_input(file_path, options)
+    note_read([file_path])
+    kind = detect_kind(file_path, text)
+    if options.untrusted and not options.in_sandbox:
+        from urdftool import sandbox
+
+        sandbox.use_for_meshes(resolver.roots, options)
+        if kind != "urdf" and text.strip() and sandbox.available():
+            source = sandbox.load_source(file_path, options, resolver, kind)
+            note_read([*source.texts, *source.unread])
+            return source
+    source = Source(str(path), kind, texts={str(path): text}, resolver=resolver)
+    if not text.strip():
+        parse_text(text, str(path), source)  # reports xml.no-root
+        return source
+    if kind == "urdf":
+        root = parse_text(text, str(path), source)
+        if root is not None:
+            source.root = root
+            source.lines = text.splitlines()
+    elif kind == "xacro":
+        from urdftool.xacro_expand import expand
+
+        expand(source, file_path, options)
+    if kind != "sdf":
+        find_unread(source, options)
+    else:
+        from urdftool.sdf import load_sdf
+
+        load_sdf(source, file_path, text, options)
+    note_read([*source.texts, *source.unread])
+    return source
+
+
+def _with_roots(options: LoadOptions, roots: Roots) -> LoadOptions:
+    import copy
+
+    options = copy.copy(options)
+    options.roots = roots
+    return options

@@ -1,0 +1,153 @@
+"""What a run may read: the roots (issue 20). Base layer: imports nothing else of urdftool.
+
+Two sources only decide it. The *repository* of each checked path (the version-control root
+above it: a ``.git``, ``.hg`` or ``.svn`` entry; without one, the directory given, or for a file
+its package's parent directory or its own directory) is always readable, except its
+version-control metadata. The *operator* widens it: ``-P NAME=DIR``, ``--model-path``, and the
+package and model path variables of the environment (``PATH_VARIABLES``). Nothing a repository
+file says widens it: a configuration value, an include, a mesh, a ``package.xml`` is resolved
+(``realpath``) and must land inside. ``urdftool.loader.run_roots`` computes the ``Roots`` of a
+run, once; the readers only ask ``Roots.readable``.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+VCS_DIRS = (".git", ".hg", ".svn")
+# where packages and models are: the operator's (environment) roots
+PACKAGE_VARIABLES = ("ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH")
+MODEL_VARIABLES = ("GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH", "GAZEBO_MODEL_PATH",
+                   "SDF_PATH")
+PATH_VARIABLES = (*PACKAGE_VARIABLES, *MODEL_VARIABLES)
+
+
+class OutsideRepository(Exception):
+    """A value a repository file gives names a place outside the repository (or its
+    version-control metadata). The message names the key and the value as written, never
+    where it resolves, and is the same whether or not anything is there."""
+
+    def __init__(self, key: str, value: str):
+        super().__init__(f"{key}: {value!r} is outside the repository (only the operator's "
+                         "-P NAME=DIR, --model-path or package path variables reach outside it)")
+        self.key = key
+        self.value = value
+
+
+def realpath(path) -> Path:
+    return Path(os.path.realpath(os.fspath(path)))
+
+
+def has_vcs_component(path: Path, root: Path) -> bool:
+    """Whether ``path`` (resolved, below ``root``) is inside version-control metadata."""
+    try:
+        parts = path.relative_to(root).parts
+    except ValueError:
+        return False
+    return any(part in VCS_DIRS for part in parts)
+
+
+def repository_of(path) -> Path | None:
+    """The version-control root above ``path`` (as given: a link's own place, not its
+    target), resolved; None outside any."""
+    start = Path(os.path.abspath(os.fspath(path)))
+    for directory in (start, *start.parents):
+        for name in VCS_DIRS:
+            try:
+                if os.path.lexists(directory / name):
+                    return realpath(directory)
+            except OSError:
+                continue
+    return None
+
+
+def repository_for(path) -> Path:
+    """The repository of a checked path: its version-control root; without one, a directory
+    as given, a file's package (the nearest directory holding a ``package.xml``) or the file's
+    own directory. (Sibling packages outside it come from the operator: ROS_PACKAGE_PATH.)"""
+    found = repository_of(path)
+    if found is not None:
+        return found
+    absolute = Path(os.path.abspath(os.fspath(path)))
+    if os.path.isdir(absolute):
+        return realpath(absolute)
+    directory = absolute.parent
+    for parent in (directory, *directory.parents):
+        if os.path.isfile(parent / "package.xml"):
+            return realpath(parent)
+    return realpath(directory)
+
+
+def clamp(value: str, base: Path, key: str, repository: Path) -> Path:
+    """``value`` (a path a repository file gives, relative to ``base``) resolved; it must be
+    inside ``repository`` and not in its version-control metadata, else OutsideRepository.
+    Nothing is asked of the file system beyond resolving links: the answer does not depend on
+    whether the target exists."""
+    target = realpath(Path(base) / value)
+    root = realpath(repository)
+    if not target.is_relative_to(root) or has_vcs_component(target, root):
+        raise OutsideRepository(key, value)
+    return target
+
+
+class Roots:
+    """The places a run may read (all resolved)."""
+
+    __slots__ = ("operator", "repositories")
+
+    def __init__(self, repositories=(), operator=()):
+        self.repositories = tuple(dict.fromkeys(realpath(p) for p in repositories))
+        self.operator = tuple(dict.fromkeys(realpath(p) for p in operator))
+
+    def __repr__(self) -> str:
+        return f"Roots({list(map(str, self.repositories))}, {list(map(str, self.operator))})"
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, Roots) and (self.repositories, self.operator) == (
+            other.repositories, other.operator)
+
+    def __hash__(self) -> int:
+        return hash((self.repositories, self.operator))
+
+    def all(self) -> list[Path]:
+        return [*self.repositories, *self.operator]
+
+    def readable(self, path) -> bool:
+        """Whether ``path`` (resolved here) may be read."""
+        try:
+            target = realpath(path)
+        except (OSError, ValueError):
+            return False
+        return self.readable_resolved(target)
+
+    def readable_resolved(self, target: Path) -> bool:
+        for root in self.all():
+            if target.is_relative_to(root) and not has_vcs_component(target, root):
+                return True
+        return False
+
+    def landlock(self) -> list[Path]:
+        """What the sandboxed reader's Landlock gets: the operator's roots, and each repository
+        without its top-level version-control metadata (Landlock only allows: a repository is
+        given as its entries; the in-process check refuses deeper metadata too)."""
+        paths: list[Path] = []
+        for root in self.repositories:
+            try:
+                entries = sorted(os.listdir(root))
+            except OSError:
+                continue
+            if not any(name in VCS_DIRS for name in entries):
+                paths.append(root)
+                continue
+            paths.extend(root / name for name in entries if name not in VCS_DIRS)
+        paths.extend(self.operator)
+        return list(dict.fromkeys(paths))
+
+    def to_json(self) -> dict:
+        return {"repositories": [str(p) for p in self.repositories],
+                "operator": [str(p) for p in self.operator]}
+
+    @classmethod
+    def from_json(cls, data) -> Roots:
+        return cls([str(p) for p in data["repositories"]], [str(p) for p in data["operator"]])
