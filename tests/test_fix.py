@@ -134,8 +134,8 @@ def test_untrusted_fix_reads_in_the_sandbox_and_writes_only_the_files_listed(
 
 
 def test_untrusted_fix_never_reaches_an_include_outside_the_package(tmp_path):
-    """An unprefixed include naming a file outside the package: trusted, its unprefixed tags
-    are fixed too; untrusted, it is neither read nor changed."""
+    """An unprefixed include naming a file outside the package (its repository: no VCS here):
+    neither read nor changed, in both modes (one trust model, issue 20)."""
     package = tmp_path / "pkg"
     package.mkdir()
     (package / "package.xml").write_text("<package><name>pkg</name></package>")
@@ -145,13 +145,13 @@ def test_untrusted_fix_never_reaches_an_include_outside_the_package(tmp_path):
     path = package / "r.urdf.xacro"
     path.write_text('<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
                     '  <include filename="../outside.xacro"/>\n  <link name="a"/>\n</robot>\n')
-    trusted = run_urdftool("check", "--trusted", "--diff", path)
-    assert trusted.code == 1 and '+  <xacro:property name="w"' in trusted.out
-    untrusted = run_urdftool("check", "--untrusted", "--diff", path)
-    assert untrusted.code == 1 and untrusted.out.count("+++ b/") == 1
-    assert '+  <xacro:include filename="../outside.xacro"/>' in untrusted.out
-    assert run_urdftool("check", "--untrusted", "--fix", "--in-place", path).code in (0, 1)
-    assert "<property" in outside.read_text()
+    for mode in ("--trusted", "--untrusted"):
+        result = run_urdftool("check", mode, "--diff", path)
+        assert result.code == 1 and result.out.count("+++ b/") == 1
+        assert '+  <xacro:include filename="../outside.xacro"/>' in result.out
+        assert run_urdftool("check", mode, "--fix", "--in-place", "--diff", path).code in (0, 1)
+        assert "<property" in outside.read_text()
+        path.write_text(path.read_text().replace("<xacro:include", "<include"))
 
 
 def test_diff_cannot_inject_ci_commands_or_terminal_escapes(tmp_path):

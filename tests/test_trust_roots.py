@@ -203,3 +203,107 @@ def test_roots_unit(tmp_path):
     assert str(outside) not in str(refused.value) and "'../outside'" in str(refused.value)
     assert os.fspath(clamp("robot_description", repo, "k", repo)) == str(
         (repo / "robot_description").resolve())
+
+
+def _package_xml(directory: Path, name: str) -> Path:
+    directory.mkdir(parents=True, exist_ok=True)
+    (directory / "package.xml").write_text(f"<package format='3'>\n  <name>{name}</name>\n"
+                                           "</package>\n")
+    return directory
+
+
+def test_ros_package_path_is_crawled_as_rospack_does(tmp_path):
+    """Descend until a package.xml (any depth), not into a package, not into dot directories
+    or directories marked CATKIN_IGNORE / COLCON_IGNORE / AMENT_IGNORE."""
+    from urdftool.packages import PackageResolver, crawl
+
+    workspace = tmp_path / "ws" / "src"
+    deep = _package_xml(workspace / "a" / "b" / "c" / "deep_pkg", "deep_pkg")
+    outer = _package_xml(workspace / "outer", "outer_pkg")
+    _package_xml(outer / "nested", "nested_pkg")  # inside a package: rospack never looks
+    _package_xml(workspace / ".hidden" / "hidden_pkg", "hidden_pkg")
+    for marker in ("CATKIN_IGNORE", "COLCON_IGNORE", "AMENT_IGNORE"):
+        ignored = workspace / marker.lower()
+        _package_xml(ignored / "pkg", f"ignored_{marker.lower()}")
+        (ignored / marker).write_text("")
+    renamed = _package_xml(workspace / "dir_name", "name_in_xml")
+    assert crawl(workspace) == {"deep_pkg": deep, "outer_pkg": outer, "name_in_xml": renamed}
+    resolver = PackageResolver(environ={"ROS_PACKAGE_PATH": f"/nonexistent:{workspace}"})
+    assert resolver.find("deep_pkg") == deep and resolver.find("nested_pkg") is None
+
+
+def test_ament_prefix_path_through_the_index_and_share(tmp_path):
+    from urdftool.packages import PackageResolver
+
+    prefix = tmp_path / "install"
+    index = prefix / "share" / "ament_index" / "resource_index" / "packages"
+    index.mkdir(parents=True)
+    (index / "indexed_pkg").write_text("")
+    (prefix / "share" / "indexed_pkg").mkdir()
+    _package_xml(prefix / "share" / "shared_dir", "shared_pkg")
+    resolver = PackageResolver(environ={"AMENT_PREFIX_PATH": str(prefix)})
+    assert resolver.find("indexed_pkg") == prefix / "share" / "indexed_pkg"
+    assert resolver.find("shared_pkg") == prefix / "share" / "shared_dir"
+
+
+def test_sibling_packages_anywhere_in_the_repository(tmp_path, monkeypatch):
+    """$(find P) for a package elsewhere in the same repository, in both modes, without -P."""
+    repo, _ = _git_repo(tmp_path)
+    other = _package_xml(repo / "deps" / "vendor" / "parts_pkg", "parts_description")
+    (other / "parts.xacro").write_text(HEAD + '  <link name="part_from_sibling"/>\n</robot>\n')
+    robot = repo / "robot_description" / "urdf" / "robot.urdf.xacro"
+    robot.write_text(HEAD + '  <xacro:include filename="$(find parts_description)/parts.xacro"/>'
+                     "\n" + TAIL)
+    for mode in MODES:
+        result = _run("expand", mode, str(robot), cwd=repo, monkeypatch=monkeypatch)
+        assert "part_from_sibling" in result.out, result
+
+
+def test_an_unknown_package_says_where_it_looked(tmp_path, monkeypatch):
+    repo, _ = _git_repo(tmp_path)
+    robot = repo / "robot_description" / "urdf" / "robot.urdf.xacro"
+    robot.write_text(HEAD + '  <xacro:include filename="$(find nowhere_pkg)/x.xacro"/>\n' + TAIL)
+    monkeypatch.delenv("ROS_PACKAGE_PATH", raising=False)
+    monkeypatch.delenv("AMENT_PREFIX_PATH", raising=False)
+    messages = set()
+    for mode in MODES:
+        result = _run("check", mode, "--format", "json", "robot_description", cwd=repo,
+                      monkeypatch=monkeypatch)
+        messages |= {d["message"] + " " + (d["hint"] or "") for f in json.loads(result.out)[
+            "files"] for d in f["diagnostics"] if "nowhere_pkg" in d["message"]}
+    (message,) = messages  # the same in both modes
+    assert "the packages of the repository" in message and "ROS_PACKAGE_PATH (not set)" in message
+    assert "-P nowhere_pkg=DIR" in message
+
+
+def test_model_meshes_of_an_included_model_through_the_model_paths(tmp_path, monkeypatch):
+    """The meshes of an SDF model:// include, found through --model-path and
+    GZ_SIM_RESOURCE_PATH in both modes (they were false mesh.not-found errors under CI)."""
+    repo, _ = _git_repo(tmp_path)
+    models = tmp_path / "models"
+    model = models / "crate"
+    (model / "meshes").mkdir(parents=True)
+    (model / "meshes" / "box.stl").write_bytes(
+        (Path(__file__).resolve().parent.parent / "urdftool" / "physics" / "examples"
+         / "open_box.stl").read_bytes())
+    (model / "model.config").write_text('<model><sdf version="1.7">model.sdf</sdf></model>')
+    (model / "model.sdf").write_text(
+        '<sdf version="1.7"><model name="crate"><link name="body"><visual name="v"><geometry>'
+        "<mesh><uri>model://crate/meshes/box.stl</uri></mesh></geometry></visual></link>"
+        "</model></sdf>")
+    world = repo / "robot_description" / "world.sdf"
+    world.write_text('<sdf version="1.7"><model name="m"><link name="a"/><include>'
+                     "<uri>model://crate</uri></include></model></sdf>")
+    for how in ("flag", "variable"):
+        args = ["--model-path", str(models)] if how == "flag" else []
+        if how == "variable":
+            monkeypatch.setenv("GZ_SIM_RESOURCE_PATH", str(models))
+        found = []
+        for mode in MODES:
+            result = _run("check", mode, "--no-cache", "--format", "json", *args, str(world),
+                          cwd=repo, monkeypatch=monkeypatch)
+            found.append(sorted((d["rule"], d["line"]) for f in json.loads(result.out)["files"]
+                                for d in f["diagnostics"]))
+            assert not [r for r, _ in found[-1] if r.startswith(("mesh.not-found", "sdf.include",
+                                                                  "sdf.mesh-uri"))], found
+        assert found[0] == found[1]

@@ -295,7 +295,7 @@ def load_source(path: Path, options, resolver, kind: str):
                "sdf_model_paths": list(options.sdf_model_paths),
                "allow_env": list(options.allow_env), "timeout": options.timeout,
                "overlay": dict(options.overlay), "lenient": options.lenient,
-               "roots": resolver.roots.to_json()}
+               "roots": resolver.roots.to_json(), "crawls": _crawls(resolver.roots)}
     what = "xacro expansion" if kind == "xacro" else "SDF reading"
     limit_rule, failure_rule = (("xacro.limit-exceeded", "xacro.error") if kind == "xacro"
                                 else ("sdf.bad-value", "sdf.bad-value"))
@@ -322,6 +322,16 @@ def load_source(path: Path, options, resolver, kind: str):
     return source
 
 
+def _crawls(roots) -> dict:
+    """The packages of each repository, crawled here: the reader's Landlock holds a
+    repository's entries but not the repository directory itself (that would hold its
+    ``.git``), so it cannot list it."""
+    from urdftool.packages import crawl
+
+    return {str(root): {name: str(path) for name, path in crawl(root).items()}
+            for root in roots.repositories}
+
+
 def convert_in_child(path: Path, options, load, resolver):
     """``urdftool convert`` of an untrusted SDF file, in the sandboxed reader: (Source, why
     the conversion was refused or None, why no model could be chosen or None)."""
@@ -332,7 +342,7 @@ def convert_in_child(path: Path, options, load, resolver):
                "model": options.model, "model_paths": list(options.model_paths),
                "package_uris": list(options.package_uris),
                "output_dir": os.fspath(options.output_dir), "cut_loops": options.cut_loops,
-               "roots": resolver.roots.to_json()}
+               "roots": resolver.roots.to_json(), "crawls": _crawls(resolver.roots)}
     try:
         answer = _child(resolver.roots).ask(request, load.timeout, "SDF conversion")
         source = source_from_json(answer["source"], str(path))

@@ -219,8 +219,20 @@ def _load(request: dict) -> dict:
     options.lenient = request.get("lenient") is True
     options.roots = Roots.from_json(request["roots"])  # the parent's, computed once
     options.in_sandbox = True
+    _seed_crawls(request)
     source = load(Path(request["path"]), options)
     return sandbox.source_to_json(source)
+
+
+def _seed_crawls(request: dict) -> None:
+    """The repositories' packages as the parent crawled them (this process may not list a
+    repository's own directory: Landlock holds its entries, without its ``.git``)."""
+    from pathlib import Path
+
+    from urdftool import packages
+
+    for root, found in (request.get("crawls") or {}).items():
+        packages._CRAWLS[str(root)] = {str(name): Path(path) for name, path in found.items()}
 
 
 def _convert(request: dict) -> dict:
@@ -235,6 +247,7 @@ def _convert(request: dict) -> dict:
     from urdftool.source import Source, read_text
 
     path = Path(request["path"])
+    _seed_crawls(request)
     resolver = PackageResolver(request["packages"], path, roots=Roots.from_json(request["roots"]),
                                model_paths=tuple(request["model_paths"]))
     text = read_text(path)

@@ -99,7 +99,8 @@ def classify(message: str, robot: Robot | None = None) -> tuple[str, str, str | 
                     "params=\"...\">, or include the file that does"))
         if kind == "unknown-package":
             return (kind, f"xacro: $(find {name}): package '{name}' not found",
-                    f"give it with -P {name}=DIR, or set ROS_PACKAGE_PATH / AMENT_PREFIX_PATH")
+                    f"give it with -P {name}=DIR, or put the directory holding it on "
+                    "ROS_PACKAGE_PATH / AMENT_PREFIX_PATH" + _tried(robot))
         if kind == "missing-include":
             return (kind, f"xacro: {head}",
                     ("check the filename (relative paths are relative to the including file), "
@@ -113,6 +114,13 @@ def classify(message: str, robot: Robot | None = None) -> tuple[str, str, str | 
                 ("fix the expression (python syntax inside ${...}; "
                 "conditions must be true/false/1/0)"))
     return "other", message, None
+
+
+def _tried(robot) -> str:
+    """Where ``$(find)`` looked (``PackageResolver.tried``)."""
+    resolver = getattr(getattr(robot, "source", None), "resolver", None)
+    tried = getattr(resolver, "tried", None)
+    return f" (looked in: {tried()})" if tried is not None else ""
 
 
 @rule("xacro.error", "error", "xacro cannot expand the file",
