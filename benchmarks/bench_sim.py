@@ -30,7 +30,8 @@ from tests.conftest import (
     pybullet_data_dir,
     pybullet_urdfs,
 )
-from urdftool.sim import SimOptions, simulate
+from urdftool.sim import SimOptions
+from urdftool.sim.runner import simulate
 
 _MOVING = re.compile(r"<joint\b[^>]*\btype\s*=\s*[\"'](revolute|continuous|prismatic|planar|"
                      r"floating)[\"']")

@@ -149,7 +149,7 @@ def test_untrusted_fix_never_reaches_an_include_outside_the_package(tmp_path):
         result = run_urdftool("check", mode, "--diff", path)
         assert result.code == 1 and result.out.count("+++ b/") == 1
         assert '+  <xacro:include filename="../outside.xacro"/>' in result.out
-        assert run_urdftool("check", mode, "--fix", "--in-place", "--diff", path).code in (0, 1)
+        assert run_urdftool("check", mode, "--fix", "--in-place", path).code in (0, 1)
         assert "<property" in outside.read_text()
         path.write_text(path.read_text().replace("<xacro:include", "<include"))
 

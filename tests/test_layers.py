@@ -9,6 +9,7 @@ import shutil
 import subprocess
 import sys
 from pathlib import Path
+from typing import ClassVar
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -17,7 +18,7 @@ def test_lint_imports_keeps_every_contract():
     command = shutil.which("lint-imports", path=str(Path(sys.executable).parent))
     assert command is not None, "import-linter is in the test extra"
     done = subprocess.run([command, "--config", str(ROOT / ".importlinter"), "--no-cache"],
-                          cwd=ROOT, capture_output=True, text=True, timeout=120,
+                          cwd=ROOT, capture_output=True, text=True, timeout=120, check=False,
                           env={"PATH": str(Path(sys.executable).parent), "PYTHONPATH": str(ROOT)})
     assert done.returncode == 0, done.stdout[-4000:] + done.stderr[-2000:]
     assert "0 broken" in done.stdout
@@ -68,8 +69,8 @@ def _cycles(graph) -> list[list[str]]:
 
 def test_the_cycle_finder_finds_a_cycle():
     class Graph:
-        modules = {"a", "b", "c", "d"}
-        edges = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
+        modules = frozenset("abcd")
+        edges: ClassVar = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
 
         def find_modules_directly_imported_by(self, module):
             return self.edges.get(module, set())

@@ -73,8 +73,9 @@ def test_yaml_data_changed_by_an_expression_is_not_shared_between_expansions(tmp
     import xacro
     from lxml import etree
 
+    from urdftool.loader import load
     from urdftool.model import build_robot
-    from urdftool.source import LoadOptions, load
+    from urdftool.source import LoadOptions
 
     names = []
     for _ in range(3):

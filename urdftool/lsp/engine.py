@@ -26,6 +26,7 @@ from typing import ClassVar, NamedTuple
 from urdftool.check import CheckOptions, check_model
 from urdftool.config import Config, load_config
 from urdftool.errors import ToolError
+from urdftool.loader import run_roots
 from urdftool.package import Target, classify, package_root, plan
 from urdftool.report import Diagnostic, FileReport, Report, merge_repeats
 from urdftool.source import ROBOT_SUFFIXES, LoadOptions
@@ -294,10 +295,9 @@ class Engine:
 
     def _check(self, unit: Unit, everything: bool) -> None:
         options = self.check_options(unit)
-        if options.load.untrusted:
-            from urdftool import sandbox
-
-            sandbox.expect([t.path for t in unit.targets], options.load)
+        # what the checks may read: from the operator's settings and the unit's repository,
+        # once (urdftool.loader), before any configuration is merged in
+        options.load.roots = run_roots([unit.root], options.load)
 
         def read_by_entry() -> set[str]:
             found: set[str] = set()
