@@ -10,7 +10,6 @@ import os
 from stat import S_ISDIR, S_ISREG
 
 MAX_BYTES = 64 << 20  # a robot description, an include, a configuration file
-READ: set[str] = set()  # realpaths of the files read here (urdftool.loader.files_read)
 
 
 def read_regular(path, limit: int = MAX_BYTES) -> bytes:
@@ -30,7 +29,6 @@ def read_regular(path, limit: int = MAX_BYTES) -> bytes:
     except BaseException:
         os.close(fd)
         raise
-    READ.add(os.path.realpath(path))
     with open(fd, "rb", closefd=True) as handle:
         data = handle.read(info.st_size + 1)  # (asking for `limit` would allocate it)
         if len(data) > info.st_size:  # grew since, or a size the system does not know (/proc)

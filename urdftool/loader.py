@@ -19,7 +19,6 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from urdftool import files
 from urdftool.errors import ToolError
 from urdftool.packages import PackageResolver
 from urdftool.physics import meshes
@@ -104,9 +103,10 @@ def note_read(names) -> None:
 
 
 def files_read() -> set[str]:
-    """Realpaths of every file this process read for the run (and the sandboxed reader
-    reported reading)."""
-    return _FILES_READ | files.READ | set(meshes._CACHE)
+    """Realpaths of every file the loads of this process read: each input, include and YAML
+    file (in this process or reported by the sandboxed reader: ``Source.texts``,
+    ``Source.unread``, ``Source.reads``) and each mesh summarised (``physics.meshes``)."""
+    return _FILES_READ | set(meshes._CACHE)
 
 
 def load(path: str | Path, options: LoadOptions | None = None) -> Source:
@@ -128,7 +128,7 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
         sandbox.use_for_meshes(resolver.roots, options)
         if kind != "urdf" and text.strip() and sandbox.available():
             source = sandbox.load_source(file_path, options, resolver, kind)
-            note_read([*source.texts, *source.unread])
+            note_read([*source.texts, *source.unread, *source.reads])
             return source
     source = Source(str(path), kind, texts={str(path): text}, resolver=resolver)
     if not text.strip():
@@ -149,7 +149,7 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
         from urdftool.sdf import load_sdf
 
         load_sdf(source, file_path, text, options)
-    note_read([*source.texts, *source.unread])
+    note_read([*source.texts, *source.unread, *source.reads])
     return source
 
 

@@ -127,6 +127,7 @@ class Child:
         self.cwd = os.getcwd()  # relative paths in requests are the parent's: same directory
         self.buffer = b""
         self.requests = 0
+        self.mesh_libraries = False  # numpy and trimesh imported (outside any mesh's deadline)
         package_parent = str(Path(__file__).resolve().parent.parent)
         started = time.monotonic()
         try:
@@ -358,6 +359,17 @@ def convert_in_child(path: Path, options, load, resolver):
     return source, refused, choice
 
 
+def _mesh_libraries(child: Child) -> None:
+    """The mesh libraries imported in ``child`` once, given the start-up's time, not a mesh's
+    (on a loaded runner, importing trimesh alone can take longer than --timeout: every mesh
+    of the first robot was 'not read within the time limit' under CI, and not under
+    --trusted)."""
+    if not child.mesh_libraries:
+        child.ask({"op": "mesh-libraries"}, START_SECONDS, "importing the mesh libraries")
+        child.mesh_libraries = True
+        child.requests -= 1  # not a mesh: the retry after an out-of-memory counts meshes
+
+
 def parse_mesh(path: Path, need_volume: bool):
     """``meshes._load`` in the sandboxed reader (``meshes.PARSER`` under ``--untrusted``)."""
     from urdftool.physics import meshes
@@ -370,6 +382,7 @@ def parse_mesh(path: Path, need_volume: bool):
     what = f"reading mesh {Path(path).name}"
     try:
         child = _child(roots)
+        _mesh_libraries(child)
         try:
             answer = child.ask(request, _RUN.get("timeout", DEFAULT_TIMEOUT), what,
                                grace=MESH_GRACE_SECONDS)
@@ -379,7 +392,9 @@ def parse_mesh(path: Path, need_volume: bool):
             if child.requests == 1 or "out of memory" not in str(exc):
                 raise
             child.close()
-            answer = _child(roots).ask(request, _RUN.get("timeout", DEFAULT_TIMEOUT), what,
+            child = _child(roots)
+            _mesh_libraries(child)
+            answer = child.ask(request, _RUN.get("timeout", DEFAULT_TIMEOUT), what,
                                        grace=MESH_GRACE_SECONDS)
         header, hull = answer["header"], answer["hull"]
         if not isinstance(header, dict) or not isinstance(hull, list) \
