@@ -36,7 +36,17 @@ class OutsideRepository(Exception):
 
 
 def realpath(path) -> Path:
+    """``os.path.realpath``; OSError when a link on the way cannot be read (``/proc/1/root``)."""
     return Path(os.path.realpath(os.fspath(path)))
+
+
+def _root(path) -> Path:
+    """A root as resolved as it can be: an operator's directory that cannot be resolved (a
+    link the system refuses to read) is kept as written; nothing below it can be read."""
+    try:
+        return realpath(path)
+    except (OSError, ValueError):
+        return Path(os.path.abspath(os.fspath(path)))
 
 
 def has_vcs_component(path: Path, root: Path) -> bool:
@@ -56,7 +66,7 @@ def repository_of(path) -> Path | None:
         for name in VCS_DIRS:
             try:
                 if os.path.lexists(directory / name):
-                    return realpath(directory)
+                    return _root(directory)
             except OSError:
                 continue
     return None
@@ -71,12 +81,12 @@ def repository_for(path) -> Path:
         return found
     absolute = Path(os.path.abspath(os.fspath(path)))
     if os.path.isdir(absolute):
-        return realpath(absolute)
+        return _root(absolute)
     directory = absolute.parent
     for parent in (directory, *directory.parents):
         if os.path.isfile(parent / "package.xml"):
-            return realpath(parent)
-    return realpath(directory)
+            return _root(parent)
+    return _root(directory)
 
 
 def clamp(value: str, base: Path, key: str, repository: Path) -> Path:
@@ -84,8 +94,11 @@ def clamp(value: str, base: Path, key: str, repository: Path) -> Path:
     inside ``repository`` and not in its version-control metadata, else OutsideRepository.
     Nothing is asked of the file system beyond resolving links: the answer does not depend on
     whether the target exists."""
-    target = realpath(Path(base) / value)
-    root = realpath(repository)
+    root = _root(repository)
+    try:
+        target = realpath(Path(base) / value)
+    except (OSError, ValueError):  # a link that cannot be read: not known to be inside
+        raise OutsideRepository(key, value) from None
     if not target.is_relative_to(root) or has_vcs_component(target, root):
         raise OutsideRepository(key, value)
     return target
@@ -97,8 +110,8 @@ class Roots:
     __slots__ = ("operator", "repositories")
 
     def __init__(self, repositories=(), operator=()):
-        self.repositories = tuple(dict.fromkeys(realpath(p) for p in repositories))
-        self.operator = tuple(dict.fromkeys(realpath(p) for p in operator))
+        self.repositories = tuple(dict.fromkeys(_root(p) for p in repositories))
+        self.operator = tuple(dict.fromkeys(_root(p) for p in operator))
 
     def __repr__(self) -> str:
         return f"Roots({list(map(str, self.repositories))}, {list(map(str, self.operator))})"
