@@ -50,10 +50,11 @@ def _findings(result) -> set[tuple]:
 
 
 def _both(*args) -> tuple[set, set]:
-    untrusted = _findings(run_urdftool("check", "--untrusted", "--no-cache", "--format", "json",
-                                       *args))
-    trusted = _findings(run_urdftool("check", "--trusted", "--no-cache", "--format", "json",
-                                     *args))
+    # a generous time limit: what is compared is what each mode reads, not how fast a loaded
+    # machine expands (a limit hit in one mode only is a difference of load, not of trust)
+    common = ("--no-cache", "--format", "json", "--timeout", "60")
+    untrusted = _findings(run_urdftool("check", "--untrusted", *common, *args))
+    trusted = _findings(run_urdftool("check", "--trusted", *common, *args))
     return untrusted, trusted
 
 

@@ -127,7 +127,6 @@ class Child:
         self.cwd = os.getcwd()  # relative paths in requests are the parent's: same directory
         self.buffer = b""
         self.requests = 0
-        self.mesh_libraries = False  # numpy and trimesh imported (outside any mesh's deadline)
         package_parent = str(Path(__file__).resolve().parent.parent)
         started = time.monotonic()
         try:
@@ -245,7 +244,10 @@ def _child(roots) -> Child:
     """The run's reader: Landlock gets exactly ``roots.landlock()`` (the run's roots, without
     version-control metadata) and the interpreter's files."""
     current = _CHILD[0] if _CHILD else None
-    settings = (int(_RUN.get("memory_mb", 1024)), tuple(_RUN.get("allow_env", ())))
+    # the variables it is started with are part of what it is: a reader started before
+    # GZ_SIM_RESOURCE_PATH changed finds models elsewhere (in-process runs: tests, the LSP)
+    settings = (int(_RUN.get("memory_mb", 1024)), tuple(_RUN.get("allow_env", ())),
+                tuple(os.environ.get(name) for name in PATH_VARIABLES))
     read = roots.landlock()
     if current is not None and current.alive() and current.read == read \
             and current.settings == settings and current.cwd == os.getcwd() \
@@ -254,7 +256,8 @@ def _child(roots) -> Child:
     if current is not None:
         current.close()
         _CHILD.clear()
-    child = Child(read, *settings)
+    child = Child(read, *settings[:2])
+    child.settings = settings
     _CHILD[:] = [child]
     return child
 
@@ -359,17 +362,6 @@ def convert_in_child(path: Path, options, load, resolver):
     return source, refused, choice
 
 
-def _mesh_libraries(child: Child) -> None:
-    """The mesh libraries imported in ``child`` once, given the start-up's time, not a mesh's
-    (on a loaded runner, importing trimesh alone can take longer than --timeout: every mesh
-    of the first robot was 'not read within the time limit' under CI, and not under
-    --trusted)."""
-    if not child.mesh_libraries:
-        child.ask({"op": "mesh-libraries"}, START_SECONDS, "importing the mesh libraries")
-        child.mesh_libraries = True
-        child.requests -= 1  # not a mesh: the retry after an out-of-memory counts meshes
-
-
 def parse_mesh(path: Path, need_volume: bool):
     """``meshes._load`` in the sandboxed reader (``meshes.PARSER`` under ``--untrusted``)."""
     from urdftool.physics import meshes
@@ -382,7 +374,6 @@ def parse_mesh(path: Path, need_volume: bool):
     what = f"reading mesh {Path(path).name}"
     try:
         child = _child(roots)
-        _mesh_libraries(child)
         try:
             answer = child.ask(request, _RUN.get("timeout", DEFAULT_TIMEOUT), what,
                                grace=MESH_GRACE_SECONDS)
@@ -392,9 +383,7 @@ def parse_mesh(path: Path, need_volume: bool):
             if child.requests == 1 or "out of memory" not in str(exc):
                 raise
             child.close()
-            child = _child(roots)
-            _mesh_libraries(child)
-            answer = child.ask(request, _RUN.get("timeout", DEFAULT_TIMEOUT), what,
+            answer = _child(roots).ask(request, _RUN.get("timeout", DEFAULT_TIMEOUT), what,
                                        grace=MESH_GRACE_SECONDS)
         header, hull = answer["header"], answer["hull"]
         if not isinstance(header, dict) or not isinstance(hull, list) \

@@ -285,14 +285,6 @@ def _answer(request) -> dict:
         op = request.get("op")
         if op == "load":
             return {"ok": _load(request)}
-        if op == "mesh-libraries":  # imported before the first mesh's deadline starts
-            import numpy  # noqa: F401 - imported now, not within a mesh's deadline
-
-            from urdftool.physics import meshes
-
-            if meshes.trimesh_available():
-                import trimesh  # noqa: F401
-            return {"ok": True}
         if op == "mesh":
             return {"ok": _mesh(request)}
         if op == "convert":
