@@ -54,8 +54,8 @@ def test_expand_refuses_a_symlink_to_its_input(xacro_files):
     link = top.parent / "out.urdf"
     link.symlink_to(parts)
     result = run_urdftool("expand", top, "-o", link)
-    assert result.code == 2 and "refusing to overwrite" in result.err
-    assert parts.read_text() == PARTS
+    assert result.code == 2 and "refusing to write through a symbolic link" in result.err
+    assert parts.read_text() == PARTS and link.is_symlink()
 
 
 def test_expand_writes_atomically_with_normal_permissions(xacro_files):
@@ -99,7 +99,7 @@ def test_failed_write_leaves_the_target_untouched(tmp_path, monkeypatch):
     target = tmp_path / "out.urdf"
     target.write_text("previous")
 
-    def fail(*args):
+    def fail(*args, **kwargs):
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr(os, "replace", fail)

@@ -11,12 +11,12 @@ but reading the 400 MB of meshes of the test corpus costs ~0.3 s, more than a wa
 cache lookup. The versions of trimesh and pycollada are not in the key (asking for them costs
 ~80 ms a run): after upgrading them, delete the directory to read every mesh again.
 
-Writes are atomic (a temporary file in the same directory, then ``os.replace``): concurrent
-writers (a process pool over files) and readers only ever see whole entries, the last writer
-wins. Any failure to read or write (read-only home, a corrupt or truncated entry, a full disk)
+Writes go through urdftool's one writer (``urdftool.output``: a temporary file in the same
+directory, then a rename, through no symbolic link): concurrent writers (a process pool over
+files) and readers only ever see whole entries, the last writer wins. Any failure to read or write (read-only home, a corrupt or truncated entry, a full disk)
 makes the caller compute the value again: the cache can only save time. ``ENABLED`` is turned
 off by ``--no-cache`` (nothing read, nothing written); ``WRITABLE`` by an untrusted run
-without ``$URDFTOOL_CACHE_DIR`` (read, never written).
+without ``$URDFTOOL_CACHE_DIR`` (read, never written: no entry of any kind, no directory).
 """
 
 from __future__ import annotations
@@ -98,9 +98,6 @@ def write(kind: str, key: dict, header: dict, values) -> None:
     any shape) for ``key``; any failure is silently ignored."""
     if not WRITABLE:
         return
-    import tempfile  # here, not at the top: it pulls in shutil, bz2, lzma, random (start-up)
-
-    temp = None
     try:
         if hasattr(values, "dtype"):  # numpy: its bytes as little-endian float64
             import numpy as np
@@ -113,19 +110,22 @@ def write(kind: str, key: dict, header: dict, values) -> None:
                 floats.byteswap()
             count, data = len(floats), floats.tobytes()
         text = json.dumps({"key": key, "data": header, "values": count})
-        target = _entry(kind, key)
-        target.parent.mkdir(parents=True, exist_ok=True)
-        fd, temp = tempfile.mkstemp(prefix=".tmp-", dir=target.parent)
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(text.encode("utf-8") + b"\n")
-            handle.write(data)
-        os.replace(temp, target)
-        temp = None
-    except (OSError, ValueError, TypeError, RuntimeError):  # RuntimeError: no home directory
+        store(_entry(kind, key), text.encode("utf-8") + b"\n" + data)
+    except (ValueError, TypeError, RuntimeError):  # RuntimeError: no home directory
         pass
-    finally:
-        if temp is not None:
-            try:
-                os.unlink(temp)
-            except OSError:
-                pass
+
+
+def store(target: Path, data: bytes) -> None:
+    """Write one entry (any kind: mesh summaries, ``package``'s reads) through urdftool's one
+    writer (``urdftool.output``: atomic, through no link, over no file the run read), unless
+    the cache is off or not writable (an untrusted run without ``$URDFTOOL_CACHE_DIR``); a
+    failure is ignored (the cache only saves time)."""
+    if not (ENABLED and WRITABLE):
+        return
+    from urdftool.errors import ToolError
+    from urdftool.output import write_file
+
+    try:
+        write_file(target, data, make_dirs=True)
+    except (ToolError, OSError):
+        pass

@@ -394,8 +394,19 @@ def _single_threaded_blas() -> None:
 # -- the worker pool --------------------------------------------------------------------------
 
 
-def _worker_chunk(paths: list, options: CheckOptions) -> list[tuple[bool, object]]:
-    return [_worker(path, options) for path in paths]
+def _worker_chunk(paths: list, options: CheckOptions) -> tuple[list[tuple[bool, object]], list]:
+    """The results of ``paths``, and the files this worker read (for the parent's "files read"
+    set: ``urdftool.files``)."""
+    from urdftool import files
+
+    return [_worker(path, options) for path in paths], files.read_paths()
+
+
+def _note_reads(paths: list) -> None:
+    from urdftool import files
+
+    for path in paths:
+        files.note(path)
 
 
 def _worker(path, options: CheckOptions) -> tuple[bool, object]:
@@ -432,7 +443,8 @@ def _check_in_workers(files: list, options: CheckOptions, jobs: int,
                    for start in range(0, len(files), size)]
         for start, future in zip(range(0, len(files), size), futures):
             try:
-                results[start:start + size] = future.result()
+                results[start:start + size], reads = future.result()
+                _note_reads(reads)
             except BrokenProcessPool:
                 pass
             if progress is not None:
@@ -454,7 +466,9 @@ def _check_alone(path, options: CheckOptions, context) -> tuple[bool, object]:
 
     with ProcessPoolExecutor(1, mp_context=context) as pool:
         try:
-            return pool.submit(_worker, path, options).result()
+            [result], reads = pool.submit(_worker_chunk, [path], options).result()
+            _note_reads(reads)
+            return result
         except BrokenProcessPool:
             return False, ToolError(f"{path.path}: the check of this file crashed its worker "
                                     "process (run with --jobs 1 --debug to see why)")

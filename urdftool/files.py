@@ -1,7 +1,12 @@
 """Reading a file a repository holds, bounded: only a regular file (a committed symlink to
 ``/dev/zero``, a FIFO or a device would never end), of at most a given size, checked on the
 open descriptor before reading. Every read of a file named by an input, a package or a
-configuration goes through ``read_regular``."""
+configuration goes through ``read_regular``.
+
+Every file read is also recorded (``READ``: its device and inode, taken from the descriptor
+already open, so at no cost): the one "files read" set of the run, which no output may
+overwrite (``urdftool.output``). Files read by other means (meshes through their libraries, a
+sandboxed reader's or a worker process's reads sent back) are added with ``note``."""
 
 from __future__ import annotations
 
@@ -10,6 +15,21 @@ import os
 from stat import S_ISDIR, S_ISREG
 
 MAX_BYTES = 64 << 20  # a robot description, an include, a configuration file
+READ: dict[tuple[int, int], str] = {}  # (st_dev, st_ino) of every file read -> a path of it
+
+
+def note(path) -> None:
+    """Record a file read other than through ``read_regular`` (nothing if it does not exist)."""
+    try:
+        info = os.stat(path)
+    except (OSError, ValueError):
+        return
+    READ.setdefault((info.st_dev, info.st_ino), os.fspath(path))
+
+
+def read_paths() -> list[str]:
+    """A path of every file recorded as read by this process."""
+    return list(READ.values())
 
 
 def read_regular(path, limit: int = MAX_BYTES) -> bytes:
@@ -29,6 +49,7 @@ def read_regular(path, limit: int = MAX_BYTES) -> bytes:
     except BaseException:
         os.close(fd)
         raise
+    READ.setdefault((info.st_dev, info.st_ino), os.fspath(path))
     with open(fd, "rb", closefd=True) as handle:
         data = handle.read(info.st_size + 1)  # (asking for `limit` would allocate it)
         if len(data) > info.st_size:  # grew since, or a size the system does not know (/proc)

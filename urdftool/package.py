@@ -352,24 +352,17 @@ def cached_reads(target: Target, load_options) -> tuple[tuple[str, ...], str] | 
 
 
 def store_reads(target: Target, load_options, report: FileReport) -> None:
-    """Record what the check of ``target`` read (nothing when it had a xacro error)."""
+    """Record what the check of ``target`` read (nothing when it had a xacro error; nothing
+    in an untrusted run without ``$URDFTOOL_CACHE_DIR``: ``cache.store``)."""
     import json
-    import tempfile
 
     from urdftool import cache
 
-    if not cache.ENABLED or any(d.rule in ("xacro.error", "xacro.limit-exceeded")
-                                for d in report.diagnostics):
+    if not (cache.ENABLED and cache.WRITABLE) or any(
+            d.rule in ("xacro.error", "xacro.limit-exceeded") for d in report.diagnostics):
         return
     stamps = [_stamp(str(Path(target.path).resolve()))] + [_stamp(p) for p in report.includes]
     if any(s is None for s in stamps):
         return
-    entry = _reads_entry(target, load_options)
-    try:
-        entry.parent.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=entry.parent, prefix=".tmp-")
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            json.dump({"files": stamps, "role": report.role}, stream)
-        os.replace(temporary, entry)
-    except (OSError, RuntimeError):
-        pass
+    cache.store(_reads_entry(target, load_options),
+                json.dumps({"files": stamps, "role": report.role}).encode("utf-8"))

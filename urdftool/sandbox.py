@@ -427,8 +427,13 @@ def source_to_json(source) -> dict:
         nodes = [*reversed(list(root.itersiblings(preceding=True))), root, *root.itersiblings()]
         text = "".join(etree.tostring(node, encoding="unicode", with_tail=False)
                        for node in nodes)
+    from urdftool import files
+
+    files_read = files.read_paths()  # all read here: for the parent's "files read" set
+    files.READ.clear()
     return {"kind": source.kind, "root": text, "locs": locs, "texts": source.texts,
             "unread": source.unread, "reads": sorted(source.reads),
+            "files_read": files_read,
             "problems": [[rule, f.message, _loc_json(f.loc), f.hint, f.severity,
                           [list(e) for e in f.edits]] for rule, f in source.problems]}
 
@@ -475,6 +480,10 @@ def source_from_json(data, path: str):
                                                    for k, v in data["texts"].items()})
         source.unread = {text(k, False): text(v, False) for k, v in data["unread"].items()}
         source.reads = {text(p, False) for p in data.get("reads", ())}
+        from urdftool import files
+
+        for read in data.get("files_read", ()):
+            files.note(text(read, False))
         for rule, message, where, hint, severity, edits in data["problems"]:
             source.add(text(rule, False), Finding(text(message, False), loc(where), text(hint),
                                                   text(severity), tuple(map(edit, edits))))

@@ -82,11 +82,67 @@ def package_option(function):
                              "Repeatable.")(function)
 
 
+_LITERAL_KEY = "urdftool.literal"
+
+
+class PathsCommand(click.Command):
+    """A command whose arguments after ``--``, and after ``--changed``, are file names: never
+    an option (a committed file named ``--write-baseline=x.urdf`` or ``-o`` is checked as a
+    file) and never a xacro ``NAME:=VALUE`` (``split_args``). The hook and the Action pass the
+    names after ``--``: a pull request cannot set the gate's verdict."""
+
+    def parse_args(self, ctx, args):
+        args = list(args)
+        cut = self._literal_start(ctx, args)
+        if cut is not None:
+            literal = args[cut:]
+            args = args[:cut]
+            if args[-1] == "--":
+                args.pop()
+            args += ["--", *literal]
+            ctx.meta[_LITERAL_KEY] = len(literal)
+        return super().parse_args(ctx, args)
+
+    def _literal_start(self, ctx, args: list[str]) -> int | None:
+        """The index of the first file name that must not be parsed (after ``--`` or
+        ``--changed``), or None. Option values are skipped: ``-o --changed`` names a file."""
+        takes_value, short = set(), set()
+        for param in self.get_params(ctx):
+            if isinstance(param, click.Option) and not param.is_flag and not param.count:
+                for opt in (*param.opts, *param.secondary_opts):
+                    takes_value.add(opt)
+                    if len(opt) == 2 and opt[0] == "-" and opt[1] != "-":
+                        short.add(opt[1])
+        index = 0
+        while index < len(args):
+            token = args[index]
+            if token == "--":
+                return index + 1
+            if token == "--changed":
+                return index + 1
+            if token.startswith("--"):
+                if "=" not in token and token in takes_value:
+                    index += 1
+            elif token.startswith("-") and len(token) > 1:
+                for position, letter in enumerate(token[1:], 1):
+                    if letter in short:
+                        if position == len(token) - 1:
+                            index += 1
+                        break
+            index += 1
+        return None
+
+
 def split_args(values: tuple[str, ...]) -> tuple[list[str], dict[str, str]]:
-    """Separate positional values into paths and xacro NAME:=VALUE arguments."""
+    """Separate positional values into paths and xacro NAME:=VALUE arguments. Values given
+    after ``--`` (``PathsCommand``) are paths, whatever they hold."""
+    ctx = click.get_current_context(silent=True)
+    literal = ctx.meta.get(_LITERAL_KEY, 0) if ctx is not None else 0
     paths, xacro_args = [], {}
-    for value in values:
-        if ":=" in value:
+    for index, value in enumerate(values):
+        if index >= len(values) - literal:
+            paths.append(value)
+        elif ":=" in value:
             name, _, arg = value.partition(":=")
             xacro_args[name] = arg
         else:
@@ -341,12 +397,18 @@ class Progress:
 
 def main(argv: list[str] | None = None) -> None:
     """Entry point: runs the group and turns ToolError into exit code 2."""
-    debug = bool(os.environ.get("URDFTOOL_DEBUG")) or "--debug" in (argv or sys.argv[1:])
+    given = sys.argv[1:] if argv is None else argv
+    command = next((i for i, a in enumerate(given) if not a.startswith("-")), len(given))
+    debug = bool(os.environ.get("URDFTOOL_DEBUG")) or "--debug" in given[:command]  # (a file
+    # named --debug is not the group's option)
     # a command builds one model and tables of records, with few reference cycles: the young
     # generation collected every 700 allocations walks them again and again (a third of `tree`
     # on a 10k-link robot, growing with the size); every 20000 keeps cycles collected (issue 15)
     gc.set_threshold(max(gc.get_threshold()[0], 20000), *gc.get_threshold()[1:])
     FAILED.clear()
+    from urdftool import files
+
+    files.READ.clear()  # the "files read" set of this run (a process may run several: tests)
     try:
         code = cli.main(args=argv, prog_name="urdftool", standalone_mode=False)
         if FAILED and not code:

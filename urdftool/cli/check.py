@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 
 from urdftool.cli import (
+    PathsCommand,
     _colour,
     format_option,
     load_options,
@@ -17,7 +18,7 @@ from urdftool.cli import (
 )
 
 
-@click.command("check")
+@click.command("check", cls=PathsCommand)
 @click.argument("inputs", nargs=-1, required=True, metavar="PATH... [NAME:=VALUE...]")
 @format_option("text", "json", "sarif", "github")
 @package_option
@@ -42,6 +43,10 @@ from urdftool.cli import (
                    "stdout or --output-file).")
 @click.option("--output-file", type=click.Path(dir_okay=False), metavar="FILE",
               help="Write the report to FILE, also with --fix.")
+@click.option("--extra-output", "extra_outputs", multiple=True, metavar="FORMAT:FILE",
+              help="Also write the report in FORMAT (json, sarif, github, text) to FILE, from "
+                   "the same run (e.g. --format github --extra-output sarif:urdftool.sarif). "
+                   "Repeatable.")
 @click.option("--show-info", is_flag=True,
               help="Text: list infos too (they are always counted, and always in JSON and "
                    "SARIF).")
@@ -75,7 +80,7 @@ from urdftool.cli import (
               metavar="FILE", help="Record today's findings in FILE and exit 0.")
 @click.pass_context
 def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixes, diff, output,
-            output_file,
+            output_file, extra_outputs,
             show_info, statistics, exit_zero, quiet, in_place, sdf_model, model_paths, no_cache,
             jobs, changed, baseline, write_baseline):
     """Lint robot descriptions (*.urdf, *.xacro, *.urdf.xacro, *.sdf); all findings in one pass.
@@ -113,15 +118,26 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixe
         raise ToolError(f"--statistics prints text or json, not {fmt}")
     if unsafe_fixes and not (fix or diff):
         raise ToolError("--unsafe-fixes goes with --fix or --diff")
-    if diff and (output or output_file or in_place):
-        raise ToolError("--diff prints the changes and writes nothing: no -o, --output-file "
-                        "or --in-place with it")
+    if diff and (output or output_file or in_place or extra_outputs):
+        raise ToolError("--diff prints the changes and writes nothing: no -o, --output-file, "
+                        "--extra-output or --in-place with it")
+    extras = _extra_outputs(extra_outputs)
+    # every file this run writes, refused now if it is a link or an input (nothing is checked)
+    # and again once all is read (nothing is written unless every one of them may be)
+    from urdftool.output import check_target
+
+    targets = [t for t in (report_to, write_baseline, output if fix else None) if t and t != "-"]
+    targets += [target for _, target in extras]
+    for target in targets:
+        check_target(target, paths, hint=" (use --in-place)" if fix and target == output else "")
     if fix or diff:
-        report = _fix(paths, options, output, in_place, unsafe_fixes, diff)
+        report = _fix(paths, options, output, in_place, unsafe_fixes, diff, targets)
         if diff:
             ctx.exit(1 if report is None else 0)
     else:
-        report = _run(paths, options, fmt, report_to, quiet)
+        report = _run(paths, options, fmt, report_to, quiet, extras)
+    for target in targets:
+        check_target(target, paths)
     if write_baseline:
         from urdftool.baseline import write_baseline as write
 
@@ -140,7 +156,7 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixe
 
         for note in report.notes:
             echo(clean(note), err=True)
-    from urdftool.report import format_statistics, render_text, summary_line
+    from urdftool.report import format_statistics, summary_line
     from urdftool.rules import load_all
 
     colour = fmt == "text" and report_to in (None, "-") and _colour(sys.stdout)
@@ -149,28 +165,56 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixe
         if fmt == "text" and not quiet:
             text += ("\n" if text else "") + summary_line(report, True, colour)
         text += "\n" if text else ""
-    elif fmt == "json":
-        from urdftool.report import format_json
-
-        text = format_json(report) + "\n"
-    elif fmt == "sarif":
-        from urdftool.report import format_sarif
-
-        text = format_sarif(report, load_all()) + "\n"
-    elif fmt == "github":
-        from urdftool.report import format_github
-
-        text = format_github(report)
-        text += "\n" if text else ""
     else:
-        text = render_text(report, show_info=show_info, colour=colour, summary=not quiet)
+        text = _rendered(report, fmt, show_info, colour, quiet)
+    for extra_fmt, target in extras:
+        _write(_rendered(report, extra_fmt, show_info, False, quiet), target, paths)
     _write(text, report_to, paths)
     if exit_zero:
         ctx.exit(0)
     ctx.exit(report.exit_code(strict if strict is not None else config.strict))
 
 
-def _run(paths, options, fmt: str, report_to: str | None, quiet: bool):
+FORMATS = ("text", "json", "sarif", "github")
+
+
+def _extra_outputs(values) -> list[tuple[str, str]]:
+    """``--extra-output FORMAT:FILE`` values as (format, file)."""
+    from urdftool.errors import ToolError
+
+    extras = []
+    for value in values:
+        fmt, sep, target = value.partition(":")
+        if not sep or fmt not in FORMATS or not target:
+            raise ToolError(f"--extra-output expects FORMAT:FILE with FORMAT one of "
+                            f"{', '.join(FORMATS)}, got {value!r}")
+        extras.append((fmt, target))
+    return extras
+
+
+def _rendered(report, fmt: str, show_info: bool, colour: bool, quiet: bool) -> str:
+    """The report in ``fmt``."""
+    from urdftool.rules import load_all
+
+    if fmt == "json":
+        from urdftool.report import format_json
+
+        return format_json(report) + "\n"
+    if fmt == "sarif":
+        from urdftool.report import format_sarif
+
+        return format_sarif(report, load_all()) + "\n"
+    if fmt == "github":
+        from urdftool.report import format_github
+
+        text = format_github(report)
+        return text + ("\n" if text else "")
+    from urdftool.report import render_text
+
+    return render_text(report, show_info=show_info, colour=colour, summary=not quiet)
+
+
+def _run(paths, options, fmt: str, report_to: str | None, quiet: bool, extras=()):
     """check_paths with a progress display on a terminal; a file that cannot be read is still
     a SARIF document (its error a tool execution notification) before the exit code 2."""
     from urdftool.check import check_paths
@@ -181,11 +225,15 @@ def _run(paths, options, fmt: str, report_to: str | None, quiet: bool):
         with Progress("checking", enabled=not quiet) as progress:
             return check_paths(paths, options, progress=progress.update)
     except ToolError as exc:
+        sarif = [target for extra_fmt, target in extras if extra_fmt == "sarif"]
         if fmt == "sarif":
+            sarif.append(report_to)
+        if sarif:
             from urdftool.display import clean
             from urdftool.report import format_sarif
 
-            _write(format_sarif(None, tool_error=clean(exc)) + "\n", report_to, paths)
+            for target in sarif:
+                _write(format_sarif(None, tool_error=clean(exc)) + "\n", target, paths)
         raise
 
 
@@ -196,13 +244,13 @@ def _write(text: str, report_to: str | None, paths: list[str]) -> None:
     write_output(text, report_to, inputs=paths, offer_in_place=False)
 
 
-def _fix(paths, options, output, in_place, unsafe, diff):
+def _fix(paths, options, output, in_place, unsafe, diff, targets=()):
     """--fix / --diff of one file: write (or show) the fixed files; the report of what remains
     (None for a --diff that changes something)."""
     from urdftool.display import clean
     from urdftool.errors import ToolError
     from urdftool.fix import encoded, fix_file, unified_diff
-    from urdftool.output import write_output
+    from urdftool.output import check_target, write_output
     from urdftool.report import Report
 
     if len(paths) != 1 or Path(paths[0]).is_dir() or not (diff or output or in_place):
@@ -230,8 +278,15 @@ def _fix(paths, options, output, in_place, unsafe, diff):
         if name is None:
             raise ToolError(f"{paths[0]}: nothing was read")
         text, encoding = encoded(name, result.originals[name], result.texts[name])
+        for target in targets:  # the report's files too: nothing written unless all may be
+            check_target(target, list(result.originals),
+                         hint=" (use --in-place)" if target == output else "")
         write_output(text, output, inputs=list(result.originals), encoding=encoding)
     else:
+        for target in targets:
+            check_target(target, list(result.originals))
+        for name in changed:  # (each checked before the first is written)
+            check_target(name, list(result.originals), may_replace=(name,))
         for name in changed:
             text, encoding = encoded(name, result.originals[name], result.texts[name])
             write_output(text, name, inputs=list(result.originals), in_place=True,

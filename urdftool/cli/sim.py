@@ -8,6 +8,7 @@ import time
 import click
 
 from urdftool.cli import (
+    PathsCommand,
     Progress,
     format_option,
     load_options,
@@ -48,7 +49,7 @@ def _pairs(values: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
     return tuple(pairs)
 
 
-@click.command("sim")
+@click.command("sim", cls=PathsCommand)
 @click.argument("inputs", nargs=-1, required=True, metavar="PATH... [NAME:=VALUE...]")
 @click.option("--duration", type=click.FloatRange(min=0, min_open=True, max=600), default=1.0,
               show_default=True, help="Simulated seconds.")

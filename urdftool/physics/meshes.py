@@ -140,8 +140,9 @@ def load_mesh(path: Path | str, need_volume: bool = False) -> MeshInfo:
 def _stored_or_load(path: Path, need_volume: bool) -> MeshInfo:
     """The summary from the persistent cache when it has a complete enough one, else loaded
     (and stored)."""
-    from urdftool import cache
+    from urdftool import cache, files
 
+    files.note(path)  # the run's "files read": no output may overwrite a mesh it read
     key = cache.stamp(path) if path.suffix.lower() in LOADABLE else None
     if key is None:
         return _load(path, need_volume)

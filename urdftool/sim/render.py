@@ -30,13 +30,9 @@ def write_png(path: str | Path, rgb, width: int, height: int) -> None:
     header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
     data = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) +
             chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
-    try:
-        Path(path).parent.mkdir(parents=True, exist_ok=True)
-        Path(path).write_bytes(data)
-    except OSError as exc:
-        from urdftool.errors import ToolError
+    from urdftool.output import write_file
 
-        raise ToolError(f"{path}: cannot write the picture: {exc.strerror or exc}") from None
+    write_file(path, data, make_dirs=True)  # atomic, through no link, over no file read
 
 
 def collision_as_visual(urdf_text: str, mesh_paths: dict[str, str]) -> str:

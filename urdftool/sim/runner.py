@@ -74,6 +74,17 @@ def picture_paths(files: list[str], render: str | None) -> list[str | None]:
     return [str(target.with_name(f"{stem}-{name}.png")) for name in names]
 
 
+def _check_pictures(pictures: list[str | None], inputs: list[str]) -> None:
+    """Refuse (exit 2, before any simulation) a picture that would be written through a
+    symbolic link or over an input: the workers' writes would refuse it too, one by one."""
+    from urdftool.output import check_target
+
+    for picture in filter(None, pictures):
+        collision = Path(picture).with_name(Path(picture).stem + "-collision.png")
+        for target in (picture, str(collision)):
+            check_target(target, inputs, make_dirs=True)
+
+
 def _context():
     methods = multiprocessing.get_all_start_methods()
     return multiprocessing.get_context("fork" if "fork" in methods else "spawn")
@@ -104,6 +115,7 @@ def run_all(paths: list[str], options: SimOptions, progress=None) -> list[ModelR
     files = model_files(paths)
     require_pybullet()
     pictures = picture_paths([f for f, _ in files], options.render)
+    _check_pictures(pictures, [f for f, _ in files])
     results: list[ModelResult | None] = [None] * len(files)
     from urdftool.check import default_jobs
 
