@@ -80,7 +80,7 @@ def test_changed_files_compare_only_what_the_run_saw(tmp_path, monkeypatch):
     recorded = json.loads((repo / "baseline.json").read_text())["findings"]
     in_d435 = [r for r in recorded if r["path"] == "realsense2_description/urdf/_d435.urdf.xacro"]
     assert 0 < len(in_d435) < len(recorded)
-    code, found, err = _check("--changed", "--baseline", "baseline.json",
+    code, found, err = _check("--baseline", "baseline.json", "--changed",
                               "realsense2_description/urdf/_d435.urdf.xacro")
     assert (code, found) == (0, [])
     # never "N recorded ones gone" for the findings of files the run did not look at
@@ -88,7 +88,7 @@ def test_changed_files_compare_only_what_the_run_saw(tmp_path, monkeypatch):
            "0 recorded one(s) gone" in err
     # a changed file no check reads: nothing compared, nothing gone
     (repo / "notes.txt").write_text("x")
-    code, found, err = _check("--changed", "--baseline", "baseline.json", "notes.txt")
+    code, found, err = _check("--baseline", "baseline.json", "--changed", "notes.txt")
     assert (code, found) == (0, []) and "0 recorded one(s) gone" in err
 
 

@@ -6,9 +6,11 @@ An entry is data, never code (no pickle): one file holding a JSON header line, t
 little-endian float64 values. It is keyed on the source file's resolved path, size and
 ``mtime_ns``, the cache format and urdftool's version, all stored in the entry and compared on
 read (the file name is a hash of the path and kind only, so a changed file replaces its entry).
-Hashing the content instead would be safer against a same-size rewrite within one mtime tick,
-but reading the 400 MB of meshes of the test corpus costs ~0.3 s, more than a warm run's whole
-cache lookup. The versions of trimesh and pycollada are not in the key (asking for them costs
+Hashing the content on every read would be safer against a same-size rewrite within one mtime
+tick, but reading the 400 MB of meshes of the test corpus costs ~0.3 s, more than a warm run's
+whole cache lookup; the content's SHA-256 is stored with the entry and compared only when the
+modification time differs (a fresh checkout of the same files: the GitHub Action restores the
+cache of an earlier run with ``actions/cache``), so a new clone still reads no mesh again. The versions of trimesh and pycollada are not in the key (asking for them costs
 ~80 ms a run): after upgrading them, delete the directory to read every mesh again.
 
 Writes go through urdftool's one writer (``urdftool.output``: a temporary file in the same
@@ -77,8 +79,13 @@ def read(kind: str, key: dict):
             data = handle.read()
         end = data.index(b"\n", 0, _MAX_HEADER)
         entry = json.loads(data[:end])
-        if not isinstance(entry, dict) or entry.get("key") != key:
+        if not isinstance(entry, dict):
             return None
+        if entry.get("key") != key:
+            if not _same_content(entry, key):
+                return None
+            entry["key"] = key  # the new modification time: found without hashing next time
+            store(_entry(kind, key), json.dumps(entry).encode("utf-8") + data[end:])
         header = entry.get("data")
         count = entry.get("values")
         if not isinstance(header, dict) or type(count) is not int \
@@ -91,6 +98,30 @@ def read(kind: str, key: dict):
         return header, values
     except (OSError, ValueError, RecursionError, RuntimeError):  # RuntimeError: no home directory
         return None
+
+
+def _digest(path: str) -> str | None:
+    """The SHA-256 of a file (at most 64 MB, as urdftool reads), None if it cannot be read."""
+    import hashlib
+
+    from urdftool.files import read_regular
+
+    try:
+        return hashlib.sha256(read_regular(path)).hexdigest()
+    except OSError:
+        return None
+
+
+def _same_content(entry: dict, key: dict) -> bool:
+    """An entry stored for the same file, same size, format and version, whose modification
+    time differs (a fresh checkout: a CI job restoring the cache of an earlier run) but whose
+    content is the same (its SHA-256, computed only in this case)."""
+    stored = entry.get("key")
+    if not isinstance(stored, dict) or not isinstance(entry.get("sha256"), str):
+        return False
+    if any(stored.get(name) != key[name] for name in ("path", "size", "format", "version")):
+        return False
+    return _digest(key["path"]) == entry["sha256"]
 
 
 def write(kind: str, key: dict, header: dict, values) -> None:
@@ -109,7 +140,8 @@ def write(kind: str, key: dict, header: dict, values) -> None:
             if sys.byteorder == "big":
                 floats.byteswap()
             count, data = len(floats), floats.tobytes()
-        text = json.dumps({"key": key, "data": header, "values": count})
+        text = json.dumps({"key": key, "sha256": _digest(key["path"]), "data": header,
+                           "values": count})
         store(_entry(kind, key), text.encode("utf-8") + b"\n" + data)
     except (ValueError, TypeError, RuntimeError):  # RuntimeError: no home directory
         pass

@@ -98,7 +98,7 @@ class PathsCommand(click.Command):
             literal = args[cut:]
             args = args[:cut]
             if args[-1] == "--":
-                args.pop()
+                args.pop()  # (put back below, once)
             args += ["--", *literal]
             ctx.meta[_LITERAL_KEY] = len(literal)
         return super().parse_args(ctx, args)
@@ -118,8 +118,8 @@ class PathsCommand(click.Command):
             token = args[index]
             if token == "--":
                 return index + 1
-            if token == "--changed":
-                return index + 1
+            if token == "--changed":  # (and a `--` after it is the same separator)
+                return index + 2 if args[index + 1:index + 2] == ["--"] else index + 1
             if token.startswith("--"):
                 if "=" not in token and token in takes_value:
                     index += 1

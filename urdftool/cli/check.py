@@ -72,7 +72,8 @@ from urdftool.cli import (
                    "process).")
 @click.option("--changed", is_flag=True,
               help="The PATHs are changed files (pre-commit, pull requests): check every entry "
-                   "of their packages that reads one of them; report the findings in them.")
+                   "of their packages that reads one of them; report the findings in them. "
+                   "Every argument after --changed is a file name (never an option).")
 @click.option("--baseline", "baseline", type=click.Path(dir_okay=False), metavar="FILE",
               help="Fail only on findings not recorded in FILE (see --write-baseline); say how "
                    "many recorded ones are gone. Default: the configuration's `baseline`.")
