@@ -147,7 +147,42 @@ def test_hook_installs_the_mesh_extra():
     extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"][
         "optional-dependencies"]
     assert hook["additional_dependencies"] == extras["mesh"]
-    assert hook["entry"] == "urdftool check --changed" and hook["require_serial"] is True
+    assert hook["entry"] == "urdftool check --changed --" and hook["require_serial"] is True
+
+
+def test_every_hook_passes_file_names_after_a_separator():
+    # pre-commit appends the file names to `entry`: after `--`, none can be an option
+    import yaml
+
+    hooks = yaml.safe_load((ROOT / ".pre-commit-hooks.yaml").read_text())
+    readme = yaml.safe_load(_readme_snippet("pre-commit-local"))["repos"][0]["hooks"]
+    for hook in hooks + readme:
+        assert hook["entry"].split()[-1] == "--", hook
+
+
+HOSTILE = ["--write-baseline=x.urdf", "-o.urdf", "--output-file=y.urdf", "--exit-zero.urdf",
+           "--ignore=xml.urdf", "-x.urdf", "a:=b.urdf"]
+
+
+def test_shipped_hook_checks_files_named_like_options(shipped, tmp_path):
+    """A commit of broken robot files whose names are options that would set the verdict
+    (write a baseline and exit 0, ignore the xml rules, send the report to a file): the real
+    pre-commit runs the shipped hook's own entry on them, each is checked as a file and the
+    commit is blocked; nothing is written."""
+    repo = _repo(tmp_path / "team", _shipped_config(shipped))
+    for name in HOSTILE:
+        (repo / name).write_text(BAD)
+    _git(repo, "add", "--", *HOSTILE)
+    before = sorted(p.name for p in repo.iterdir())
+    env = _env(shipped[2])
+    subprocess.run([sys.executable, "-m", "pre_commit", "install"], cwd=repo, env=env,
+                   check=True, capture_output=True)
+    blocked = _commit(repo, env, "hostile names")
+    assert blocked.returncode != 0, blocked.stdout
+    for name in HOSTILE:
+        assert f"{name}:2:" in blocked.stdout, (name, blocked.stdout)
+    assert "no such option" not in blocked.stdout and "baseline:" not in blocked.stdout
+    assert sorted(p.name for p in repo.iterdir()) == before  # no x.urdf, no y.urdf
 
 
 def _readme_snippet(name: str) -> str:

@@ -181,11 +181,15 @@ def format_json(report: Report) -> str:
     return json_safe(json.dumps(report.to_json(), indent=2))
 
 
-def format_github(report: Report) -> str:
+def format_github(report: Report, annotate: set[str] | None = None) -> str:
     """GitHub Actions workflow commands (``::error file=...,line=...::message``), escaped as
     GitHub documents: ``%``, CR and LF in the message; also ``:`` and ``,`` in properties.
-    Other control characters are shown as ``\\x1b``... (``display.clean``)."""
-    from urdftool.display import clean
+    Other control characters are shown as ``\\x1b``... (``display.clean``). ``annotate``: the
+    files (resolved paths) to annotate (a pull request's); a finding elsewhere is a plain log
+    line, and one notice counts them."""
+    import os
+
+    from urdftool.display import clean, diagnostic_line, guard
 
     level = {"error": "error", "warning": "warning", "info": "notice"}
 
@@ -194,8 +198,13 @@ def format_github(report: Report) -> str:
         value = value.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
         return value.replace(":", "%3A").replace(",", "%2C") if prop else value
 
-    lines = []
+    lines, elsewhere = [], 0
     for d in report.diagnostics():
+        if annotate is not None and os.path.realpath(d.path) not in annotate:
+            elsewhere += 1
+            lines.append(guard(diagnostic_line(d.path, d.line, d.column, d.severity, d.rule,
+                                               d.message)))
+            continue
         props = [f"file={escape(d.path, True)}"]
         if d.line:
             props.append(f"line={d.line}")
@@ -204,6 +213,9 @@ def format_github(report: Report) -> str:
         props.append(f"title={escape(d.rule, True)}")
         text = d.message + (f" (fix: {d.hint})" if d.hint else "")
         lines.append(f"::{level[d.severity]} {','.join(props)}::{escape(text)}")
+    if elsewhere:
+        lines.append(f"::notice::{elsewhere} finding(s) in files this change does not touch "
+                     "(listed in the log, not annotated)")
     return "\n".join(lines)
 
 

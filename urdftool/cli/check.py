@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -72,7 +73,8 @@ from urdftool.cli import (
                    "process).")
 @click.option("--changed", is_flag=True,
               help="The PATHs are changed files (pre-commit, pull requests): check every entry "
-                   "of their packages that reads one of them; report the findings in them. "
+                   "of their packages that reads one of them; report the findings in them "
+                   "(--format github annotates only them). "
                    "Every argument after --changed is a file name (never an option).")
 @click.option("--baseline", "baseline", type=click.Path(dir_okay=False), metavar="FILE",
               help="Fail only on findings not recorded in FILE (see --write-baseline); say how "
@@ -161,15 +163,17 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixe
     from urdftool.rules import load_all
 
     colour = fmt == "text" and report_to in (None, "-") and _colour(sys.stdout)
+    # changed files (a pull request's): GitHub annotations only on them, the rest in the log
+    annotate = {os.path.realpath(p) for p in paths} if changed else None
     if statistics:
         text = format_statistics(report, fmt == "json", load_all())
         if fmt == "text" and not quiet:
             text += ("\n" if text else "") + summary_line(report, True, colour)
         text += "\n" if text else ""
     else:
-        text = _rendered(report, fmt, show_info, colour, quiet)
+        text = _rendered(report, fmt, show_info, colour, quiet, annotate)
     for extra_fmt, target in extras:
-        _write(_rendered(report, extra_fmt, show_info, False, quiet), target, paths)
+        _write(_rendered(report, extra_fmt, show_info, False, quiet, annotate), target, paths)
     _write(text, report_to, paths)
     if exit_zero:
         ctx.exit(0)
@@ -193,8 +197,9 @@ def _extra_outputs(values) -> list[tuple[str, str]]:
     return extras
 
 
-def _rendered(report, fmt: str, show_info: bool, colour: bool, quiet: bool) -> str:
-    """The report in ``fmt``."""
+def _rendered(report, fmt: str, show_info: bool, colour: bool, quiet: bool,
+              annotate: set[str] | None = None) -> str:
+    """The report in ``fmt`` (github: ``annotate`` only those files, see ``format_github``)."""
     from urdftool.rules import load_all
 
     if fmt == "json":
@@ -208,7 +213,7 @@ def _rendered(report, fmt: str, show_info: bool, colour: bool, quiet: bool) -> s
     if fmt == "github":
         from urdftool.report import format_github
 
-        text = format_github(report)
+        text = format_github(report, annotate)
         return text + ("\n" if text else "")
     from urdftool.report import render_text
 
