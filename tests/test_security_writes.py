@@ -74,12 +74,13 @@ def repo(tmp_path, monkeypatch) -> Path:
     return root
 
 
-def refused(result, *words: str) -> None:
+def refused(result, *words: str, before: int = 0) -> None:
+    """Exit 2 with one line on stderr (after ``before`` lines the run printed first)."""
     assert result.code == 2, (result.code, result.out, result.err)
     lines = result.err.strip().splitlines()
-    assert len(lines) == 1 and "Traceback" not in result.err, result.err
+    assert len(lines) == 1 + before and "Traceback" not in result.err, result.err
     for word in words:
-        assert word in lines[0], lines[0]
+        assert word in lines[-1], lines[-1]
 
 
 @pytest.mark.parametrize("mode", MODES)
@@ -107,6 +108,16 @@ def test_check_never_writes_over_a_file_it_read(repo, mode, option, victim):
                           *(["-o", "report.txt"] if option == "--extra-output" else []))
     refused(result, victim)
     assert snapshot(repo) == before  # not the report either: nothing is written
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_check_never_writes_over_the_baseline_it_compared_with(repo, mode):
+    assert run_urdftool("check", mode, "broken.urdf", "--write-baseline", "b.json").code == 0
+    before = snapshot(repo)
+    refused(run_urdftool("check", mode, "broken.urdf", "--baseline", "b.json",
+                         "--extra-output", "sarif:new.sarif", "-o", "b.json"), "b.json",
+            before=1)  # the baseline's summary
+    assert snapshot(repo) == before  # not new.sarif either
 
 
 @pytest.mark.parametrize("mode", MODES)

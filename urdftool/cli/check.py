@@ -172,6 +172,8 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixe
         text += "\n" if text else ""
     else:
         text = _rendered(report, fmt, show_info, colour, quiet, annotate)
+    for target in targets:  # once more: the baseline compared with was read since
+        check_target(target, paths)
     for extra_fmt, target in extras:
         _write(_rendered(report, extra_fmt, show_info, False, quiet, annotate), target, paths)
     _write(text, report_to, paths)
