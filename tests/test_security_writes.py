@@ -25,6 +25,7 @@ XACRO = """<?xml version="1.0"?>
 </robot>
 """
 BROKEN = '<?xml version="1.0"?>\n<robot name="r"><link name="base"></robot>\n'
+SLOW = ("--timeout", "60")  # the sandboxed reader parses the mesh in time on a loaded machine
 
 
 def _stl(path: Path) -> None:
@@ -218,7 +219,7 @@ def test_untrusted_runs_write_no_cache(repo, tmp_path, monkeypatch):
     assert {p.name for p in (tmp_path / "xdg" / "urdftool").iterdir()} == {"mesh", "reads"}
     monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path / "named"))
     meshes.clear_cache()
-    assert run_urdftool("check", "--untrusted", "--changed", "mesh.urdf").code in (0, 1)
+    assert run_urdftool("check", "--untrusted", *SLOW, "--changed", "mesh.urdf").code in (0, 1)
     assert {p.name for p in (tmp_path / "named").iterdir()} == {"mesh", "reads"}
 
 
