@@ -155,7 +155,7 @@ def store(target: Path, data: bytes) -> None:
     if not (ENABLED and WRITABLE):
         return
     from urdftool.errors import ToolError
-    from urdftool.output import write_file
+    from urdftool.files import write_file
 
     try:
         write_file(target, data, make_dirs=True)
