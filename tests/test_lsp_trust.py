@@ -1,7 +1,8 @@
 """Trust and configuration of ``urdftool lsp``: a workspace is untrusted unless the client's
 initializationOptions say ``{"trusted": true}``; untrusted, the server reads as
 ``check --untrusted`` (its findings are that command's) and nothing it sends carries content of a
-file outside the package roots. Options given as initializationOptions are honoured."""
+file outside the run's roots (in either mode: one trust model, issue 20). Options given as
+initializationOptions are honoured."""
 
 from __future__ import annotations
 
@@ -74,7 +75,7 @@ async def test_a_workspace_is_untrusted_unless_the_client_says_so(untrusted, tmp
     await open_file(untrusted, robot)
     assert published(untrusted, package) == check_json("--untrusted", str(package))
     text = _everything(untrusted)
-    assert "outside the package roots" in text
+    assert "outside the repository" in text
     assert MARKER not in text
     # a request on the include names nothing outside the roots either
     line = robot.read_text(encoding="utf-8").split("\n").index(
@@ -93,8 +94,9 @@ async def test_trusted_reads_as_check_trusted_with_the_options_given(trusted, tm
     await open_file(trusted, robot)
     expected = check_json("--trusted", "--select", "xacro,inertia,structure", str(package))
     assert published(trusted, tmp_path) == expected
-    # the included file outside the package is read when trusted: its finding is there
-    assert any(MARKER in d.message for found in trusted.diagnostics.values() for d in found)
+    # trusted reads in this process, inside the same roots: the file outside is not read
+    text = _everything(trusted)
+    assert "outside the repository" in text and MARKER not in text
     assert {d.code.split(".")[0] for found in trusted.diagnostics.values()
             for d in found} <= {"xacro", "inertia", "structure"}
 
@@ -110,8 +112,8 @@ async def test_workspace_settings_change_the_rules(trusted, tmp_path):
     workspace/configuration after a didChangeConfiguration) applies to the next checks."""
     package, robot = _layout(tmp_path)
     await open_file(trusted, robot)
-    assert any(d.code.startswith("inertia.") for d in trusted.diagnostics[uri(robot)]) or any(
-        d.code.startswith("inertia.") for found in trusted.diagnostics.values() for d in found)
+    assert any(d.code.startswith("xacro.") for found in trusted.diagnostics.values()
+               for d in found)  # the refused include: not a structure finding
     trusted.set_configuration({"select": ["structure"]}, section="urdftool")
     trusted.workspace_did_change_configuration(lsp.DidChangeConfigurationParams(settings=None))
     await checked(trusted)
