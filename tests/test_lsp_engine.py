@@ -73,13 +73,11 @@ def test_yaml_data_changed_by_an_expression_is_not_shared_between_expansions(tmp
     import xacro
     from lxml import etree
 
-    from urdftool.loader import load
-    from urdftool.model import build_robot
-    from urdftool.source import LoadOptions
+    from urdftool.check import CheckOptions, check_model
 
     names = []
     for _ in range(3):
-        robot = build_robot(load(tmp_path / "robot.urdf.xacro", LoadOptions()))
+        robot = check_model(tmp_path / "robot.urdf.xacro", CheckOptions())[1]
         names.append(sorted(link.name for link in robot.links))
     document = xacro.process_file(str(tmp_path / "robot.urdf.xacro"), mappings={})
     plain = sorted(e.get("name") for e in etree.fromstring(document.toxml().encode()).iter("link"))
