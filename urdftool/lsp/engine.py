@@ -175,8 +175,13 @@ class Engine:
         return options
 
     def check_options(self, unit: Unit) -> CheckOptions:
-        return CheckOptions(self.load_options(), list(self.settings.select),
-                            list(self.settings.ignore), unit.config)
+        """The options of the unit's checks (and of its fixes): what they may read from the
+        operator's settings and the unit's repository, once (``urdftool.loader``), before any
+        configuration is merged in."""
+        options = CheckOptions(self.load_options(), list(self.settings.select),
+                               list(self.settings.ignore), unit.config)
+        options.load.roots = run_roots([unit.root], options.load)
+        return options
 
     def set_settings(self, settings: Settings) -> None:
         self.settings = settings
@@ -295,9 +300,6 @@ class Engine:
 
     def _check(self, unit: Unit, everything: bool) -> None:
         options = self.check_options(unit)
-        # what the checks may read: from the operator's settings and the unit's repository,
-        # once (urdftool.loader), before any configuration is merged in
-        options.load.roots = run_roots([unit.root], options.load)
 
         def read_by_entry() -> set[str]:
             found: set[str] = set()

@@ -31,6 +31,8 @@ SEVERITY = {"error": lsp.DiagnosticSeverity.Error, "warning": lsp.DiagnosticSeve
 UNNECESSARY = frozenset({"joint.fixed-with-axis", "schema.duplicate-element"})
 DEPRECATED = frozenset({"xacro.unprefixed-tag", "xacro.unprefixed-macro-call"})
 CHECK_COMMAND = "urdftool.check"
+# settings that widen what is read or seen: from the operator only in an untrusted workspace
+WIDENING = frozenset({"packages", "allowEnv"})
 # seconds without a change before the checks put off (fragments an entry reads) are run
 PENDING_DELAY = 0.5
 _SITE = re.compile(r"^(.*):(\d+)$")
@@ -325,6 +327,13 @@ def make_server(settings: Settings | None = None) -> UrdfLanguageServer:
             data = answer[0] if answer else None
         if not isinstance(data, dict) or not data:
             return
+        if not ls.engine.settings.trusted:  # a workspace's own settings (in the repository)
+            widening = sorted(set(data) & WIDENING)  # never widen what an untrusted one reads
+            if widening:
+                ls.log(f"urdftool: settings {', '.join(widening)} ignored: the workspace is "
+                       "untrusted (give them as initializationOptions or on the command line)",
+                       lsp.MessageType.Warning)
+                data = {k: v for k, v in data.items() if k not in WIDENING}
         settings, problems = ls.engine.settings.updated(data)
         for problem in problems:
             ls.log(f"urdftool: settings: {problem}", lsp.MessageType.Warning)
