@@ -231,3 +231,18 @@ def test_cache_directory_link_inside_the_repository_is_not_followed(repo, tmp_pa
     monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(repo / "cache" / "urdftool"))
     assert run_urdftool("check", "--trusted", "mesh.urdf").code in (0, 1)
     assert list(outside.iterdir()) == []  # the cache is only ever skipped
+
+
+def test_names_after_the_separator_are_files(repo):
+    # issue 20.4 on the command line itself: after `--` (and after `--changed`) every argument
+    # is a file name, an option's value stays its value, a file named --debug turns nothing on
+    (repo / "--exit-zero").write_text(BROKEN)
+    (repo / "x:=y.urdf").write_text(BROKEN)
+    result = run_urdftool("check", "--trusted", "--", "--exit-zero", "x:=y.urdf")
+    assert result.code == 1 and "--exit-zero:2:" in result.out and "x:=y.urdf:2:" in result.out
+    (repo / "--exit-zero.urdf").write_text(BROKEN)
+    result = run_urdftool("check", "--trusted", "--changed", "--exit-zero", "--exit-zero.urdf")
+    assert result.code == 1 and "--exit-zero.urdf:2:" in result.out, result.out + result.err
+    result = run_urdftool("check", "--trusted", "-o", "--changed", "broken.urdf")
+    assert result.code == 1 and "xml.unclosed-tag" in (repo / "--changed").read_text()
+    refused(run_urdftool("check", "--trusted", "--", "--debug"), "--debug")
