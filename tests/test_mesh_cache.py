@@ -18,6 +18,9 @@ from urdftool import cache
 from urdftool.physics import links, meshes
 
 trimesh = pytest.importorskip("trimesh")
+# the sandboxed reader parses meshes within --timeout: on a loaded machine the default 3 s timed
+# them out (not cached: a transient error), which is not what these tests are about
+UNTRUSTED = ("--untrusted", "--timeout", "60")
 
 
 def fresh_process():
@@ -256,9 +259,9 @@ def test_errors_are_cached_and_untrusted_runs_use_the_cache(tmp_path):
     (package / "broken.stl").write_text("solid x\n facet normal 0 0 1\n")
     path.write_text(path.read_text().replace(
         "</link>", '<visual><geometry><mesh filename="broken.stl"/></geometry></visual></link>'))
-    cold, loads = check_json(path, "--untrusted")
+    cold, loads = check_json(path, *UNTRUSTED)
     assert loads == 2 and any("cannot be read" in m for m in messages(cold))
-    assert check_json(path, "--untrusted") == (cold, 0)
+    assert check_json(path, *UNTRUSTED) == (cold, 0)
     assert check_json(path, "--trusted") == (cold, 0)
 
 
@@ -298,11 +301,11 @@ def test_untrusted_run_writes_no_cache_unless_a_directory_is_named(monkeypatch, 
     robot = box_robot(tmp_path)
     monkeypatch.delenv("URDFTOOL_CACHE_DIR")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
-    cold, parsed = check_json("--untrusted", robot)
+    cold, parsed = check_json(*UNTRUSTED, robot)
     assert parsed == 1 and not (tmp_path / "xdg").exists()
     assert check_json("--trusted", robot) == (cold, 1)
     assert len(entries()) == 1  # a trusted run writes it ...
-    assert check_json("--untrusted", robot) == (cold, 0)  # ... and an untrusted one reads it
+    assert check_json(*UNTRUSTED, robot) == (cold, 0)  # ... and an untrusted one reads it
     monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path / "named"))
-    check_json("--untrusted", robot)
+    check_json(*UNTRUSTED, robot)
     assert len(entries()) == 1 and entries()[0].is_relative_to(tmp_path / "named")
