@@ -126,6 +126,43 @@ class GuardedStream:
         return getattr(self._stream, name)
 
 
+CLIP = 600  # characters of a message, hint or element path from a file that a report shows
+EXCERPT = 160  # characters of a quoted source line shown around the column
+
+
+def clip(text: str | None, limit: int = CLIP) -> str | None:
+    """``text`` cut to about ``limit`` characters: its start and end kept, the middle said as
+    ``[… N characters …]`` (a message that quotes a megabyte-long name stays one line)."""
+    if text is None or len(text) <= limit:
+        return text
+    tail = limit // 4
+    head = limit - tail
+    return f"{text[:head]}[… {len(text) - head - tail} characters …]{text[-tail:]}"
+
+
+def excerpt(text: str, start: int, end: int, column: int | None,
+            width: int = EXCERPT) -> tuple[str, int | None]:
+    """(shown, caret) of the line ``text[start:end]`` (its line end excluded): about ``width``
+    characters around ``column`` (1-based; the start of the line without one), an ellipsis
+    where the line goes on, tabs expanded, escaped (``clean``); ``caret`` is the column's
+    0-based position in ``shown`` (None without a column). Only the window is read."""
+    length = end - start
+    at = min(max((column or 1) - 1, 0), length)
+    if length > width:
+        first = min(max(0, at - width // 2), length - width)
+    else:
+        first = 0
+    last = min(length, first + width)
+    before = "…" if first > 0 else ""
+    after = "…" if last < length else ""
+    window = text[start + first:start + last].rstrip("\r")
+    shown = before + clean(window.expandtabs(4)) + after
+    caret = None
+    if column:
+        caret = len(before) + len(clean(window[:at - first].expandtabs(4)))
+    return shown, caret
+
+
 def location(path, line: int | None = None, column: int | None = None) -> str:
     """``path:line:col``, ``path:line`` or ``path``: the same in every command."""
     where = clean(path)

@@ -50,8 +50,36 @@ class ByHand(str):
 # -- positions ----------------------------------------------------------------------------------
 
 
+_STARTS: dict[str, list[int]] = {}  # text -> its line starts: every text is split once
+_STARTS_KEPT = 64
+
+
 def line_starts(text: str) -> list[int]:
-    return [0] + [m.end() for m in re.finditer("\n", text)]
+    """The offset where each line of ``text`` starts (lines end at ``\\n``), computed once per
+    text and shared by the edits, the report's excerpts and positions (the list is shared:
+    never change it). The last few texts are kept (a run checks one file, its includes and
+    their look-through rounds at a time)."""
+    starts = _STARTS.get(text)
+    if starts is None:
+        if len(_STARTS) >= _STARTS_KEPT:
+            del _STARTS[next(iter(_STARTS))]
+        starts = [0]
+        find, add = text.find, starts.append
+        at = find("\n")
+        while at >= 0:
+            add(at + 1)
+            at = find("\n", at + 1)
+        _STARTS[text] = starts
+    return starts
+
+
+def line_at(text: str, line: int) -> str | None:
+    """Line ``line`` (1-based) of ``text`` without its line end; None past the end."""
+    starts = line_starts(text)
+    if not 0 < line <= len(starts):
+        return None
+    end = starts[line] - 1 if line < len(starts) else len(text)
+    return text[starts[line - 1]:end].rstrip("\r")
 
 
 def offset(starts: list[int], line: int, column: int) -> int:
@@ -161,11 +189,10 @@ def tag_at(text: str, starts: list[int], line: int | None, column: int | None,
     start = offset(starts, line, column) if column else -1
     if not (start >= 0 and text.startswith("<", start) and named(start)):
         end_of_line = starts[line] if line < len(starts) else len(text)
-        for match in re.finditer("<", text[starts[line - 1]:end_of_line]):
-            if named(starts[line - 1] + match.start()):
-                start = starts[line - 1] + match.start()
-                break
-        else:
+        start = text.find("<", starts[line - 1], end_of_line)
+        while start >= 0 and not named(start):
+            start = text.find("<", start + 1, end_of_line)
+        if start < 0:
             return None
     end = tag_end(text, start)
     return None if end is None else (start, end)
@@ -228,6 +255,24 @@ def end_tag(text: str, tag: tuple[int, int], name: str) -> tuple[int, int] | Non
             end = tag_end(text, match.start())
             if end is not None and text[end - 2] != "/":
                 depth += 1
+
+
+def attribute_loc(texts: dict[str, str], loc, names: tuple[str, ...], attr: str):
+    """``loc`` (a model ``Loc`` of an element whose tag is one of ``names``, any when empty)
+    moved to where attribute ``attr`` is written in its start tag, on whichever line of the
+    tag that is; ``loc`` itself when the tag or the attribute is not found."""
+    text = texts.get(loc.path) if loc is not None and loc.line else None
+    if text is None:
+        return loc
+    starts = line_starts(text)
+    tag = tag_at(text, starts, loc.line, loc.column, names)
+    span = attribute(text, tag, attr) if tag is not None else None
+    if span is None:
+        return loc
+    from bisect import bisect_right
+
+    line = bisect_right(starts, span[0])
+    return loc._replace(line=line, column=span[0] - starts[line - 1] + 1)
 
 
 # -- values: written where the text was written ------------------------------------------------

@@ -138,7 +138,7 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
         root = parse_text(text, str(path), source)
         if root is not None:
             source.root = root
-            source.lines = text.splitlines()
+            source.lines = text
     elif kind == "xacro":
         from urdftool.xacro_expand import expand
 

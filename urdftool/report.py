@@ -29,7 +29,11 @@ class Diagnostic(NamedTuple):
     fix: object = None  # urdftool.edits.Fix, when the finding has one
 
     def to_json(self) -> dict:
+        from urdftool.display import clip
+
         data = self._asdict()
+        data["message"], data["hint"] = clip(self.message), clip(self.hint)
+        data["element"] = clip(self.element)
         if not self.call_sites:
             del data["instances"], data["call_sites"]
         else:
@@ -46,10 +50,23 @@ def sites_text(call_sites) -> str:
     if not call_sites:
         return ""
     if len(call_sites) == 1:
-        return " (expanded from the macro call at " + ", called from ".join(call_sites[0]) + ")"
-    shown = ", ".join(" from ".join(chain) for chain in call_sites[:8])
-    more = f", and {len(call_sites) - 8} more" if len(call_sites) > 8 else ""
+        return " (expanded from the macro call at " + _chain(call_sites[0]) + ")"
+    shown = ", ".join(_chain(chain, " from ") for chain in call_sites[:SITES_SHOWN])
+    more = f", and {len(call_sites) - SITES_SHOWN} more" if len(call_sites) > SITES_SHOWN else ""
     return f" (in {len(call_sites)} instances: {shown}{more})"
+
+
+SITES_SHOWN = 3  # call sites a message names (JSON's call_sites has every one)
+CHAIN_SHOWN = 3  # calls of one site's chain a message names: the innermost, ..., the outermost
+
+
+def _chain(chain, joint: str = ", called from ") -> str:
+    """A call chain (innermost first) as a message says it: at most ``CHAIN_SHOWN`` calls, the
+    outermost last."""
+    if len(chain) <= CHAIN_SHOWN:
+        return joint.join(chain)
+    return joint.join((*chain[:CHAIN_SHOWN - 1], f"({len(chain) - CHAIN_SHOWN} more)",
+                       chain[-1]))
 
 
 def _shape(message: str) -> str:
@@ -189,7 +206,7 @@ def format_github(report: Report, annotate: set[str] | None = None) -> str:
     line, and one notice counts them."""
     import os
 
-    from urdftool.display import clean, diagnostic_line, guard
+    from urdftool.display import clean, clip, diagnostic_line, guard
 
     level = {"error": "error", "warning": "warning", "info": "notice"}
 
@@ -203,7 +220,7 @@ def format_github(report: Report, annotate: set[str] | None = None) -> str:
         if annotate is not None and os.path.realpath(d.path) not in annotate:
             elsewhere += 1
             lines.append(guard(diagnostic_line(d.path, d.line, d.column, d.severity, d.rule,
-                                               d.message)))
+                                               clip(d.message))))
             continue
         props = [f"file={escape(d.path, True)}"]
         if d.line:
@@ -211,7 +228,7 @@ def format_github(report: Report, annotate: set[str] | None = None) -> str:
         if d.column:
             props.append(f"col={d.column}")
         props.append(f"title={escape(d.rule, True)}")
-        text = d.message + (f" (fix: {d.hint})" if d.hint else "")
+        text = clip(d.message) + (f" (fix: {clip(d.hint)})" if d.hint else "")
         lines.append(f"::{level[d.severity]} {','.join(props)}::{escape(text)}")
     if elsewhere:
         lines.append(f"::notice::{elsewhere} finding(s) in files this change does not touch "
@@ -247,7 +264,7 @@ def format_sarif(report: Report | None, rules: dict | None = None,
     docs, ``rules`` mapping id to ``rules.Rule``), the results, and an invocation that says
     whether the run succeeded; ``tool_error`` (a file that could not be read...) is a
     ``toolExecutionNotification`` of a failed invocation."""
-    from urdftool.display import json_safe
+    from urdftool.display import clip, json_safe
 
     diagnostics = report.diagnostics() if report is not None else []
     rule_ids = sorted({d.rule for d in diagnostics})
@@ -262,7 +279,7 @@ def format_sarif(report: Report | None, rules: dict | None = None,
         location = {"physicalLocation": {"artifactLocation": {"uri": d.path}}}
         if region:
             location["physicalLocation"]["region"] = region
-        message = d.message + (f" Fix: {d.hint}" if d.hint else "")
+        message = clip(d.message) + (f" Fix: {clip(d.hint)}" if d.hint else "")
         result = {"ruleId": d.rule, "ruleIndex": index[d.rule],
                   "level": _SARIF_LEVEL[d.severity], "message": {"text": message},
                   "locations": [location]}
@@ -337,41 +354,64 @@ def summary_line(report: Report, show_info: bool = True, colour: bool = False) -
     return click.style(line, fg="red" if s["errors"] else "yellow" if s["warnings"] else "green")
 
 
+LISTED_PER_RULE = 20  # text: findings listed per rule and file (the rest counted)
+
+
 def render_text(report: Report, show_info: bool = False, colour: bool = False,
-                summary: bool = True) -> str:
+                summary: bool = True, per_rule: int = LISTED_PER_RULE) -> str:
     """Human output: each error and warning (and info with ``show_info``) as
-    ``path:line:col: severity rule: message`` (``display.diagnostic_line``), the source line
-    with a caret, the hint; then the summary line. File content is escaped
-    (``display.clean``). A report without listed findings is the summary line alone, made
-    without importing ``display`` (a clean run is a pre-commit hook's usual case)."""
+    ``path:line:col: severity rule: message`` (``display.diagnostic_line``), an excerpt of the
+    source line around the column with a caret, the hint; then the summary line. At most
+    ``per_rule`` findings of one rule in one file are listed, the rest counted in the summary
+    line (JSON and SARIF carry them all). Messages and hints are clipped (``display.clip``) and
+    file content is escaped (``display.clean``). A report without listed findings is the
+    summary line alone, made without importing ``display`` (a clean run is a pre-commit hook's
+    usual case)."""
     shown = SEVERITIES if show_info else ("error", "warning")
     lines = []
-    listed = [(file, d) for file in report.files for d in file.diagnostics if d.severity in shown]
+    listed = []
+    unlisted = 0
+    for file in report.files:
+        counts: dict[tuple[str, str], int] = {}
+        for d in file.diagnostics:
+            if d.severity not in shown:
+                continue
+            key = (d.rule, d.path)
+            counts[key] = counts.get(key, 0) + 1
+            if counts[key] > per_rule:
+                unlisted += 1
+            else:
+                listed.append((file, d))
     if listed:
         import click
 
-        from urdftool.display import SEVERITY_STYLE, clean, diagnostic_line
+        from urdftool.display import SEVERITY_STYLE, clean, clip, diagnostic_line, excerpt
+        from urdftool.edits import line_starts
 
         def style(text, **how):
             return click.style(text, **how) if colour else text
 
         for file, d in listed:
-            lines.append(diagnostic_line(d.path, d.line, d.column, d.severity, d.rule, d.message,
-                                         colour))
+            lines.append(diagnostic_line(d.path, d.line, d.column, d.severity, d.rule,
+                                         clip(d.message), colour))
             text = file.texts.get(d.path)
             if text is not None and d.line:
-                source = text.splitlines()
-                if 0 < d.line <= len(source):
-                    raw = source[d.line - 1]
-                    lines.append(style(f"  {d.line:>5} | {clean(raw.expandtabs(4))}", dim=True))
-                    if d.column:
+                starts = line_starts(text)
+                if 0 < d.line <= len(starts):
+                    end = starts[d.line] - 1 if d.line < len(starts) else len(text)
+                    quoted, caret = excerpt(text, starts[d.line - 1], end, d.column)
+                    lines.append(style(f"  {d.line:>5} | {quoted}", dim=True))
+                    if caret is not None:
                         fg, bold = SEVERITY_STYLE[d.severity]
-                        caret = len(clean(raw[:d.column - 1].expandtabs(4)))
                         lines.append(" " * 10 + style(" " * caret + "^", fg=fg, bold=bold))
             if d.hint:
-                lines.append(f"        {style('fix:', fg='green')} {clean(d.hint)}")
+                lines.append(f"        {style('fix:', fg='green')} {clean(clip(d.hint))}")
     if summary:
-        lines.append(summary_line(report, show_info, colour))
+        line = summary_line(report, show_info, colour)
+        if unlisted:
+            line += (f"; {unlisted} more not listed (at most {per_rule} per rule and file;"
+                     " --format json lists every one)")
+        lines.append(line)
     text = "".join(line + "\n" for line in lines)
     if listed:  # whatever the layout: no line a CI runner would execute
         from urdftool.display import guard

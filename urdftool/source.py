@@ -91,7 +91,7 @@ class Source:
         self.unread: dict[str, str] = {}
         self.resolver = resolver
         self.locs = locs if locs is not None else {}  # element -> Loc (xacro, SDF)
-        self.lines: list[str] | None = None  # plain URDF: its lines (positions from the parser)
+        self.lines: str | None = None  # plain URDF: its text (positions from the parser)
         self._xpaths: dict = {}  # element -> its XPath, filled a parent's children at a time
 
     def loc(self, element) -> Loc:
@@ -99,8 +99,8 @@ class Source:
         comments their element's."""
         xpath = self.xpath(element) if self.root is not None else None
         node = element
-        lines = self.lines
-        if lines is not None:  # found when asked: most elements never are
+        text = self.lines
+        if text is not None:  # found when asked: most elements never are
             tag = node.tag
             while not isinstance(tag, str):
                 node = node.getparent()
@@ -109,10 +109,12 @@ class Source:
                 tag = node.tag
             line = node.sourceline
             column = None
-            if line and line <= len(lines):
+            if line:
+                from urdftool.edits import line_starts
+
                 if tag[0] == "{":  # namespaced: written with its prefix
                     tag = _qualified_tag(node)
-                column = _column(lines[line - 1], tag)
+                line, column = tag_position(text, line_starts(text), line, tag)
             return Loc(self.path, line, column, xpath)
         while node is not None and node not in self.locs:
             node = node.getparent()
@@ -264,13 +266,40 @@ def parse_text(text: str, path: str, source: Source) -> etree._Element | None:
 
 
 LONG_LINE = 4096  # a minified file's one line: no column (finding it per element is quadratic)
+LOOK_BACK = 8192  # characters above its line where a tag written across lines may start
 
 
-def _column(line_text: str, tag: str) -> int | None:
-    if len(line_text) > LONG_LINE:
-        return None
-    index = line_text.find("<" + tag)
-    return index + 1 if index >= 0 else None
+def tag_position(text: str, starts: list[int], line: int, tag: str) -> tuple[int, int | None]:
+    """(line, column) of the ``<tag`` of an element the parser places at ``line`` (libxml2
+    gives the line where its start tag ends): the first on that line, or else the nearest above
+    it (a tag written across lines: its first line, not the ``izz="0.001" />`` of its last);
+    (line, None) when there is none near or the line is a minified file's one long line.
+    ``starts``: ``edits.line_starts(text)``."""
+    if not 0 < line <= len(starts):
+        return line, None
+    start = starts[line - 1]
+    end = starts[line] - 1 if line < len(starts) else len(text)
+    if end - start > LONG_LINE:
+        return line, None
+    needle = "<" + tag
+    index = text.find(needle, start, end)
+    while index >= 0 and not _ends_name(text, index + len(needle)):
+        index = text.find(needle, index + 1, end)
+    if index >= 0:
+        return line, index - start + 1
+    index = text.rfind(needle, max(0, start - LOOK_BACK), start)
+    while index >= 0 and not _ends_name(text, index + len(needle)):
+        index = text.rfind(needle, max(0, start - LOOK_BACK), index)
+    if index < 0:
+        return line, None
+    from bisect import bisect_right
+
+    found = bisect_right(starts, index)
+    return found, index - starts[found - 1] + 1
+
+
+def _ends_name(text: str, index: int) -> bool:
+    return index >= len(text) or text[index] in " \t\r\n/>"
 
 
 def _qualified_tag(element) -> str:

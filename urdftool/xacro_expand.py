@@ -33,7 +33,6 @@ from urdftool.source import (
     VIA_ATTR,
     LoadOptions,
     Source,
-    _column,
     _qualified_tag,
     _utf8_bytes,
     parse_text,
@@ -41,6 +40,7 @@ from urdftool.source import (
     read_input,
     read_text,
     shown_path,
+    tag_position,
 )
 from urdftool.xacro_eval import REFUSED_TEXT
 from urdftool.xmlrepair import secure_parser
@@ -83,12 +83,14 @@ class _ChildList(xml.dom.minicompat.NodeList):
 
 
 def _tag_elements(root, file_index: int, text: str) -> None:
-    lines = text.splitlines()
+    from urdftool.edits import line_starts
+
+    starts = line_starts(text)
     for element in root.iter():
         if not isinstance(element.tag, str):
             continue
-        line = element.sourceline or 0
-        column = _column(lines[line - 1], _qualified_tag(element)) if 0 < line <= len(lines) else None
+        line, column = tag_position(text, starts, element.sourceline or 0,
+                                    _qualified_tag(element))
         element.set(LOC_ATTR, f"{file_index}:{line}:{column or 0}")
 
 

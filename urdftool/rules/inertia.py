@@ -47,6 +47,18 @@ def _inertia_loc(link):
     return inertial.inertia_loc or inertial.loc or link.loc
 
 
+def _moment_loc(robot, link, axis: str):
+    """Where the moment about ``axis`` ("x", "y", "z" of the inertial frame) is written (its
+    attribute, on whichever line of a tag written across lines); the <inertia> for a
+    principal axis."""
+    loc = _inertia_loc(link)
+    if axis not in ("x", "y", "z") or link.inertial is None or loc is not link.inertial.inertia_loc:
+        return loc
+    from urdftool.edits import attribute_loc
+
+    return attribute_loc(robot.source.texts, loc, ("inertia",), f"i{axis}{axis}")
+
+
 def _mass_loc(link):
     inertial = link.inertial
     return (inertial.mass_loc or inertial.loc or link.loc) if inertial is not None else link.loc
@@ -447,8 +459,8 @@ def exceeds_geometry(robot):
                       f"({_g(b.reach)} m)² = {_g(b.bound)} kg·m²)"
                       + (f"; ixx = iyy = izz = {a.declared[0][0]:g} looks like a placeholder"
                          if analysis.is_placeholder(a.declared) else "") + merged,
-                      _inertia_loc(a.link), hint=(_block_hint(a) or "") + note or None,
-                      severity=severity, edits=edits)
+                      _moment_loc(robot, a.link, b.axis_name),
+                      hint=(_block_hint(a) or "") + note or None, severity=severity, edits=edits)
 
 
 def _merged_verdict(name: str, effect) -> tuple[str, str]:

@@ -194,7 +194,6 @@ class _Walk:
         self.findings: dict[str, list[Finding]] = {}
         self.xacro_tags = set(self.table["xacro_tags"]["names"])
         self.version: tuple[int, int] | None = (1, 0)
-        self._lines: dict[str, list[str]] = {}
         self._old_xacro: set | None = None
 
     def old_xacro(self, element) -> bool:
@@ -219,18 +218,11 @@ class _Walk:
         return rename_element(self.robot.source.texts, self.robot.loc(element), old, new)
 
     def attr_loc(self, element, name: str) -> Loc:
-        """The element's place, moved to the attribute when it is on the element's first line."""
-        loc = self.robot.loc(element)
-        lines = self._lines.get(loc.path)
-        if lines is None:
-            text = self.robot.source.texts.get(loc.path)
-            lines = self._lines[loc.path] = text.splitlines() if text is not None else []
-        if not loc.line or loc.line > len(lines):
-            return loc
-        line = lines[loc.line - 1]
-        start = (loc.column or 1) - 1
-        match = re.compile(r"(?<![\w:.-])" + re.escape(name) + r"\s*=").search(line, start)
-        return loc._replace(column=match.start() + 1) if match else loc
+        """The element's place, moved to the attribute (on whichever line of its start tag it
+        is written)."""
+        from urdftool.edits import attribute_loc
+
+        return attribute_loc(self.robot.source.texts, self.robot.loc(element), (), name)
 
     # -- entry ----------------------------------------------------------------------------------
 

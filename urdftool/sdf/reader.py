@@ -21,7 +21,7 @@ from urdftool.errors import ToolError
 from urdftool.findings import Finding, Loc
 from urdftool.sdf.schema import SPEC
 from urdftool.sdf.transforms import IDENTITY, Transform
-from urdftool.source import _column
+from urdftool.source import tag_position
 
 SUPPORTED = ((1, 4), (1, 5), (1, 6), (1, 7), (1, 8), (1, 9), (1, 10), (1, 11))
 OLD = ((1, 0), (1, 2), (1, 3))
@@ -122,7 +122,6 @@ class Reader:
                 if entry:
                     self.model_paths.append(Path(entry))
         self._element_doc: dict[int, Doc] = {}  # id(root) -> doc
-        self._lines: dict[int, list[str]] = {}  # id(doc) -> its lines, split once (issue 15)
         self._locs: dict = {}  # SDF element -> its Loc, shared by the URDF elements made from it
         self._include_stack: list[Path] = []
 
@@ -144,11 +143,10 @@ class Reader:
             return Loc(self.source.path)
         line = element.sourceline
         column = None
-        lines = self._lines.get(id(doc))
-        if lines is None:
-            lines = self._lines[id(doc)] = doc.text.splitlines()
-        if line and line <= len(lines) and isinstance(element.tag, str):
-            column = _column(lines[line - 1], element.tag)
+        if line and isinstance(element.tag, str):
+            from urdftool.edits import line_starts
+
+            line, column = tag_position(doc.text, line_starts(doc.text), line, element.tag)
         # Source.xpath is getpath in linear time (lxml's counts every ancestor's preceding
         # siblings: quadratic on a model of thousands of links, issue 15)
         return Loc(doc.path, line, column, self.source.xpath(element))
