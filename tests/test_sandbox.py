@@ -78,7 +78,9 @@ def test_every_layer_is_active_here():
 
     layers = sandbox.layers()
     assert layers["landlock"].startswith("abi "), layers
-    assert layers["seccomp"] == "denylist", layers
+    assert layers["seccomp"].startswith("allowlist: "), layers
+    assert layers["landlock_net"] == "TCP bind and connect denied", layers
+    assert layers["landlock_scopes"] == "signals and abstract unix sockets kept inside", layers
     assert layers["no_new_privs"] == "on" and layers["capabilities"] == "dropped"
     assert layers["rlimits"].startswith("hard:")
 
@@ -116,6 +118,79 @@ def test_code_in_the_child_cannot_get_out(tmp_path):
     # the walls do not stop what reading a robot needs
     assert outcome["file in the package"][0] == "done"
     assert outcome["thread"][0] == "done" and outcome["signal itself"][0] == "done"
+
+
+ALLOWLIST_ATTACK = r'''
+import ctypes, errno, fcntl, os, socket, termios
+libc = ctypes.CDLL(None, use_errno=True)
+result = {}
+
+def call(name, function, *args):
+    ctypes.set_errno(0)
+    value = function(*args)
+    result[name] = [value, ctypes.get_errno()]
+
+def attempt(name, action):
+    try:
+        result[name] = ["done", repr(action())[:200]]
+    except OSError as exc:
+        result[name] = ["refused", exc.errno]
+
+F_SETSIG, F_SETOWN_EX, FIOASYNC, FIOSETOWN, SIOCSPGRP = 10, 15, 0x5452, 0x8901, 0x8902
+IPC_PRIVATE, IPC_CREAT = 0, 0o1000
+flags = fcntl.fcntl(0, fcntl.F_GETFL)
+# signals to any process of the user: an owner and O_ASYNC on a descriptor
+attempt("F_SETOWN", lambda: fcntl.fcntl(0, fcntl.F_SETOWN, os.getppid()))
+attempt("F_SETSIG", lambda: fcntl.fcntl(0, F_SETSIG, 9))
+attempt("F_SETOWN_EX", lambda: fcntl.fcntl(0, F_SETOWN_EX, bytes(8)))
+attempt("O_ASYNC", lambda: fcntl.fcntl(0, fcntl.F_SETFL, flags | os.O_ASYNC))
+attempt("FIOASYNC", lambda: fcntl.ioctl(0, FIOASYNC, b"\x01\x00\x00\x00"))
+attempt("FIOSETOWN", lambda: fcntl.ioctl(0, FIOSETOWN, b"\x01\x00\x00\x00"))
+attempt("SIOCSPGRP", lambda: fcntl.ioctl(0, SIOCSPGRP, b"\x01\x00\x00\x00"))
+attempt("open O_ASYNC", lambda: os.open("/proc/self/status", os.O_RDONLY | os.O_ASYNC))
+attempt("kill the parent", lambda: os.kill(os.getppid(), 15))
+attempt("kill init", lambda: os.kill(1, 0))
+# SysV IPC: objects that outlive the reader, other processes' shared memory
+call("shmget", libc.shmget, IPC_PRIVATE, 4096, IPC_CREAT | 0o600)
+call("shmat", libc.shmat, 0, None, 0)
+call("msgget", libc.msgget, IPC_PRIVATE, IPC_CREAT | 0o600)
+call("semget", libc.semget, IPC_PRIVATE, 1, IPC_CREAT | 0o600)
+attempt("POSIX shm", lambda: os.open("/dev/shm/urdftool-q", os.O_CREAT | os.O_RDWR, 0o600))
+attempt("socket", lambda: socket.socket(socket.AF_INET, socket.SOCK_DGRAM))
+attempt("execve", lambda: os.execve("/bin/true", ["true"], {}))
+call("ptrace", libc.ptrace, 16, os.getppid(), 0, 0)
+# what a reader does with its own descriptors still works
+attempt("F_GETFL", lambda: fcntl.fcntl(0, fcntl.F_GETFL))
+attempt("F_SETFD", lambda: fcntl.fcntl(0, fcntl.F_SETFD, fcntl.FD_CLOEXEC))
+attempt("O_NONBLOCK", lambda: (fcntl.fcntl(0, fcntl.F_SETFL, flags | os.O_NONBLOCK),
+                               fcntl.fcntl(0, fcntl.F_SETFL, flags)))
+attempt("isatty", lambda: os.isatty(0))
+attempt("read a file", lambda: len(open(os.__file__, "rb").read()))
+'''
+
+
+def test_the_reader_may_only_read(tmp_path):
+    """Allowlist, not denylist: with code running in the reader, no signal through O_ASYNC and
+    a descriptor owner (F_SETOWN, F_SETSIG, FIOASYNC, FIOSETOWN), no SysV or POSIX IPC, no
+    kill, socket, execve or ptrace; each refused by the filter itself (EPERM), while its own
+    descriptors' flags and files still work."""
+    from urdftool import sandbox
+
+    answer = sandbox.run_test_payload(ALLOWLIST_ATTACK, [tmp_path])
+    outcome = answer["ok"]
+    assert outcome, answer
+    for name in ("F_SETOWN", "F_SETSIG", "F_SETOWN_EX", "O_ASYNC", "FIOASYNC", "FIOSETOWN",
+                 "SIOCSPGRP", "open O_ASYNC", "kill the parent", "kill init", "POSIX shm",
+                 "socket", "execve"):
+        assert outcome[name][0] == "refused", (name, outcome[name])
+    for name in ("F_SETOWN", "F_SETSIG", "O_ASYNC", "FIOASYNC", "FIOSETOWN", "open O_ASYNC",
+                 "socket", "execve"):
+        assert outcome[name][1] == 1, (name, outcome[name])  # EPERM: the filter said no
+    for name in ("shmget", "shmat", "msgget", "semget", "ptrace"):
+        value, error = outcome[name]
+        assert value == -1 and error == 1, (name, outcome[name])  # -1, EPERM
+    for name in ("F_GETFL", "F_SETFD", "O_NONBLOCK", "isatty", "read a file"):
+        assert outcome[name][0] == "done", (name, outcome[name])
 
 
 def test_the_payload_door_is_shut_to_the_cli(tmp_path, monkeypatch):
@@ -287,7 +362,9 @@ def test_doctor_lists_the_layers():
     report = json.loads(result.out)
     assert result.code == 0 and report["libraries"]["pyseccomp"] is True
     assert set(report["sandbox"]) == {"capabilities", "rlimits", "no_new_privs", "landlock",
-                                      "seccomp"}
+                                      "landlock_net", "landlock_scopes", "seccomp"}
+    text = run_urdftool("doctor").out
+    assert "seccomp          allowlist: " in text and "landlock_scopes  signals" in text
 
 
 def test_a_missing_layer_is_said_once(capsys):

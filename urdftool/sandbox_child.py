@@ -24,26 +24,45 @@ LIBRARY_PRELOAD = ("lxml.etree", "yaml", "xacro", "urdftool.loader", "urdftool.x
 EPERM, ENOSYS = 1, 38
 CLONE_THREAD = 0x00010000
 
-DENIED_SYSCALLS = (
-    # no new programs, no new processes (threads are allowed: see the clone rule)
-    "execve", "execveat", "fork", "vfork",
-    # no network, no local sockets
-    "socket", "socketpair", "connect", "bind", "listen", "accept", "accept4",
-    # no looking into or signalling other processes
-    "ptrace", "process_vm_readv", "process_vm_writev", "tkill", "rt_sigqueueinfo",
-    "pidfd_open", "pidfd_getfd", "pidfd_send_signal", "kcmp",
-    # the limits and the identity stay as set
-    "setrlimit", "setuid", "setgid", "setreuid", "setregid", "setresuid", "setresgid",
-    "setgroups", "setfsuid", "setfsgid", "capset",
-    # no new namespaces, mounts, kernel objects that bypass the filter
-    "unshare", "setns", "mount", "umount2", "pivot_root", "chroot", "io_uring_setup",
-    "io_uring_enter", "io_uring_register", "bpf", "perf_event_open", "userfaultfd", "keyctl",
-    "add_key", "request_key", "init_module", "finit_module", "delete_module", "kexec_load",
-    "kexec_file_load", "reboot", "swapon", "swapoff", "open_by_handle_at",
-    "name_to_handle_at", "mount_setattr", "fsopen", "fsmount", "fspick", "move_mount",
-    "open_tree", "quotactl", "acct", "settimeofday", "clock_settime", "sethostname",
-    "setdomainname", "iopl", "ioperm",
+# the system calls the reader makes once confined (traced on xacro, YAML, SDF and STL/DAE/OBJ
+# mesh requests, numpy and trimesh imported after the filter): reading files through
+# descriptors, memory, threads, clocks, exit. Every other call is refused (EPERM): no process,
+# program, socket, SysV or POSIX IPC, ptrace, namespace, mount, key, BPF, io_uring... Calls
+# with arguments that matter are allowed only with harmless ones (see ``_seccomp``).
+ALLOWED_SYSCALLS = (
+    # files, through descriptors opened read-only (openat/open: see _seccomp)
+    "read", "pread64", "readv", "preadv", "preadv2", "lseek", "close", "fstat", "newfstatat",
+    "stat", "lstat", "statx", "fstatfs", "statfs", "getdents64", "getdents", "readlink",
+    "readlinkat", "access", "faccessat", "faccessat2", "getcwd", "dup", "dup3",
+    # memory
+    "brk", "mmap", "munmap", "mprotect", "mremap", "madvise", "mbind", "get_mempolicy",
+    "membarrier",
+    # threads and their synchronisation (clone: threads only, see _seccomp)
+    "futex", "futex_waitv", "set_robust_list", "get_robust_list", "set_tid_address", "rseq",
+    "sched_yield", "sched_getaffinity", "sched_getparam", "sched_getscheduler", "getcpu",
+    # signals to itself (kill/tgkill: its own pid only, see _seccomp)
+    "rt_sigaction", "rt_sigprocmask", "rt_sigreturn", "sigaltstack", "rt_sigpending",
+    "rt_sigtimedwait", "rt_sigsuspend",
+    # clocks, identity, randomness, limits read
+    "clock_gettime", "clock_getres", "clock_nanosleep", "nanosleep", "gettimeofday", "time",
+    "getpid", "gettid", "getppid", "getuid", "geteuid", "getgid", "getegid", "getresuid",
+    "getresgid", "getgroups", "getpgrp", "getpgid", "getsid", "uname", "sysinfo", "getrusage",
+    "times", "getrandom", "getrlimit", "getpriority", "capget",
+    # waiting on its pipes
+    "poll", "ppoll", "select", "pselect6",
+    # the end
+    "exit", "exit_group",
 )
+O_ACCMODE, O_CREAT, O_TRUNC, O_ASYNC = 0o3, 0o100, 0o1000, 0o20000
+# fcntl commands that read or set a descriptor's own flags (F_SETFL: never O_ASYNC, see
+# _seccomp); F_SETOWN, F_SETSIG, F_SETOWN_EX, F_SETLEASE, F_NOTIFY (signals to any process of
+# the user) and locks are refused
+F_DUPFD, F_GETFD, F_SETFD, F_GETFL, F_SETFL, F_DUPFD_CLOEXEC = 0, 1, 2, 3, 4, 1030
+# ioctl requests: is this a terminal, its size (ioctl's FIOASYNC/FIOSETOWN are refused)
+TCGETS, TIOCGWINSZ = 0x5401, 0x5413
+# prctl options the C library and the interpreter use: thread names, capability bounding set
+# read, anonymous memory names (glibc's malloc arenas)
+PR_SET_NAME, PR_GET_NAME, PR_CAPBSET_READ, PR_GET_DUMPABLE, PR_SET_VMA = 15, 16, 23, 3, 0x53564D41
 
 
 def _set_limits(memory_mb: int, cpu_seconds: int, nofile: int) -> dict[str, int]:
@@ -96,45 +115,108 @@ def _no_new_privs() -> None:
         raise OSError(ctypes.get_errno(), "prctl(PR_SET_NO_NEW_PRIVS)")
 
 
-def _landlock(read: list[str]) -> str:
+# Landlock beyond files, by ABI version: TCP bind and connect (4); abstract unix sockets and
+# signals scoped to the sandbox (6). The landlock package's ruleset knows only the file
+# accesses (its RulesetAttr has one field): the ruleset is created here with the kernel's full
+# landlock_ruleset_attr, and its rules added and enforced through the package's calls.
+NET_BIND_TCP, NET_CONNECT_TCP = 1 << 0, 1 << 1
+SCOPE_ABSTRACT_UNIX_SOCKET, SCOPE_SIGNAL = 1 << 0, 1 << 1
+NET_ABI, SCOPE_ABI = 4, 6
+
+
+def _landlock(read: list[str]) -> dict[str, str]:
     """Read-only access beneath ``read``, nothing else (no write, create, remove, execute)
-    anywhere. Returns the ABI version used; raises when the kernel has no Landlock."""
+    anywhere; no TCP bind or connect, and no signal or abstract unix socket reaching outside
+    the sandbox, where the kernel's ABI has them. Returns the layers ("landlock",
+    "landlock_net", "landlock_scopes"); raises when the kernel has no Landlock."""
+    import ctypes
+
     import landlock
+    from landlock import plumbing
 
     abi = landlock.landlock_abi_version()
-    ruleset = landlock.Ruleset()  # handles every file-system access the ABI knows
-    allowed = landlock.FSAccess.READ_FILE | landlock.FSAccess.READ_DIR
-    for directory in read:
-        if os.path.exists(directory):
-            ruleset.allow(directory, rules=allowed if os.path.isdir(directory)
-                          else landlock.FSAccess.READ_FILE)
-    ruleset.apply()
-    return f"abi {abi}"
+    handled = landlock.FSAccess.all()
+    net = NET_BIND_TCP | NET_CONNECT_TCP if abi >= NET_ABI else 0
+    scoped = SCOPE_ABSTRACT_UNIX_SOCKET | SCOPE_SIGNAL if abi >= SCOPE_ABI else 0
+
+    class RulesetAttr(ctypes.Structure):  # struct landlock_ruleset_attr
+        _fields_ = [("handled_access_fs", ctypes.c_uint64),
+                    ("handled_access_net", ctypes.c_uint64), ("scoped", ctypes.c_uint64)]
+
+    attr = RulesetAttr(int(handled), net, scoped)
+    size = 24 if abi >= SCOPE_ABI else 16 if abi >= NET_ABI else 8  # what this ABI reads
+    libc = plumbing.get_libc()
+    libc.syscall.restype = ctypes.c_long
+    ruleset = libc.syscall(ctypes.c_long(plumbing.SYSCALL_CREATE_RULESET), ctypes.byref(attr),
+                           ctypes.c_size_t(size), ctypes.c_uint32(0))
+    if ruleset < 0:
+        raise OSError(ctypes.get_errno(), "landlock_create_ruleset")
+    try:
+        allowed = landlock.FSAccess.READ_FILE | landlock.FSAccess.READ_DIR
+        for directory in read:
+            if os.path.exists(directory):
+                rules = allowed if os.path.isdir(directory) else landlock.FSAccess.READ_FILE
+                parent = os.open(directory, os.O_PATH)
+                try:
+                    plumbing.get_add_rule()(ruleset, 1, ctypes.byref(
+                        plumbing.PathBeneathAttr(rules, parent)), 0)
+                finally:
+                    os.close(parent)
+        plumbing.get_restrict_self()(ruleset, 0)
+    finally:
+        os.close(ruleset)
+    return {"landlock": f"abi {abi}",
+            "landlock_net": "TCP bind and connect denied" if net
+            else f"off: kernel Landlock ABI {abi} < {NET_ABI}",
+            "landlock_scopes": "signals and abstract unix sockets kept inside" if scoped
+            else f"off: kernel Landlock ABI {abi} < {SCOPE_ABI}"}
 
 
 def _seccomp() -> str:
-    """A filter that refuses (EPERM) the calls in DENIED_SYSCALLS, a clone that is not a
-    thread (fork by another name), signals to any other process, and setting a resource
-    limit; clone3 answers ENOSYS so that the C library falls back to clone, which the filter
-    can inspect."""
+    """Default deny (EPERM): only ``ALLOWED_SYSCALLS`` and, with their arguments checked,
+    ``openat``/``open`` read-only (no create, truncate or O_ASYNC), ``write`` to its answer
+    channel and stderr, ``fcntl`` on a descriptor's own flags without O_ASYNC, ``ioctl``
+    asking whether a descriptor is a terminal, ``prctl`` for names and reads, ``clone`` of a
+    thread (not a process), ``kill``/``tgkill`` of itself, ``prlimit64`` reading. ``clone3``
+    answers ENOSYS so that the C library falls back to ``clone``, which the filter can
+    inspect."""
     import pyseccomp as seccomp
 
     me = os.getpid()
-    denied = seccomp.ERRNO(EPERM)
-    rules = seccomp.SyscallFilter(defaction=seccomp.ALLOW)
-    for name in DENIED_SYSCALLS:
+    rules = seccomp.SyscallFilter(defaction=seccomp.ERRNO(EPERM))
+    allow = seccomp.ALLOW
+    allowed, checked = set(), set()
+
+    def add(name: str, *args) -> None:
         try:
-            rules.add_rule(denied, name)
+            rules.add_rule(allow, name, *args)
         except (OSError, ValueError, RuntimeError):  # a call this architecture does not have
-            continue
-    rules.add_rule(denied, "clone", seccomp.Arg(0, seccomp.MASKED_EQ, CLONE_THREAD, 0))
+            return
+        (checked if args else allowed).add(name)
+
+    for name in ALLOWED_SYSCALLS:
+        add(name)
+    refused_flags = O_ACCMODE | O_CREAT | O_TRUNC | O_ASYNC
+    add("openat", seccomp.Arg(2, seccomp.MASKED_EQ, refused_flags, 0))
+    add("open", seccomp.Arg(1, seccomp.MASKED_EQ, refused_flags, 0))
+    for fd in (1, 2):  # the answer channel, stderr (the parent keeps what it says)
+        add("write", seccomp.Arg(0, seccomp.EQ, fd))
+        add("writev", seccomp.Arg(0, seccomp.EQ, fd))
+    for command in (F_DUPFD, F_GETFD, F_SETFD, F_GETFL, F_DUPFD_CLOEXEC):
+        add("fcntl", seccomp.Arg(1, seccomp.EQ, command))
+    add("fcntl", seccomp.Arg(1, seccomp.EQ, F_SETFL), seccomp.Arg(2, seccomp.MASKED_EQ, O_ASYNC, 0))
+    for request in (TCGETS, TIOCGWINSZ):
+        add("ioctl", seccomp.Arg(1, seccomp.EQ, request))
+    for option in (PR_SET_NAME, PR_GET_NAME, PR_CAPBSET_READ, PR_GET_DUMPABLE, PR_SET_VMA):
+        add("prctl", seccomp.Arg(0, seccomp.EQ, option))
+    add("clone", seccomp.Arg(0, seccomp.MASKED_EQ, CLONE_THREAD, CLONE_THREAD))
     rules.add_rule(seccomp.ERRNO(ENOSYS), "clone3")
-    rules.add_rule(denied, "kill", seccomp.Arg(0, seccomp.NE, me))
-    rules.add_rule(denied, "tgkill", seccomp.Arg(0, seccomp.NE, me))
-    rules.add_rule(denied, "rt_tgsigqueueinfo", seccomp.Arg(0, seccomp.NE, me))
-    rules.add_rule(denied, "prlimit64", seccomp.Arg(2, seccomp.NE, 0))  # reading is fine
+    add("kill", seccomp.Arg(0, seccomp.EQ, me))
+    add("tgkill", seccomp.Arg(0, seccomp.EQ, me))
+    add("prlimit64", seccomp.Arg(2, seccomp.EQ, 0))  # reading a limit, never setting one
     rules.load()
-    return "denylist"
+    return (f"allowlist: {len(allowed) + len(checked)} calls ({len(checked)} with their "
+            "arguments checked), no IPC, sockets, processes, exec or ptrace")
 
 
 # the dynamic loader's files: extension modules load system libraries (libstdc++...) on import
@@ -188,7 +270,7 @@ def confine(read: list[str], memory_mb: int, cpu_seconds: int) -> dict[str, str]
     try:
         if isinstance(modules["landlock"], Exception):
             raise modules["landlock"]
-        layers["landlock"] = _landlock([*read, *interpreter_paths()])
+        layers.update(_landlock([*read, *interpreter_paths()]))
     except Exception as exc:  # noqa: BLE001 - an old kernel or no landlock module: said
         layers["landlock"] = f"off: {str(exc).splitlines()[0] if str(exc) else type(exc).__name__}"
     try:

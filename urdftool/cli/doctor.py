@@ -35,4 +35,4 @@ def command(fmt):
         click.echo(f"  {name:<12} {'installed' if present else 'missing'}")
     click.echo("--untrusted sandbox (the reader of xacro, YAML, SDF and meshes):")
     for layer, state in layers.items():
-        click.echo(f"  {layer:<14} {state}")
+        click.echo(f"  {layer:<16} {state}")
