@@ -16,6 +16,7 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from urdftool import rules as rules_module
 from urdftool.config import Config, suppressions
 from urdftool.errors import ToolError
 from urdftool.loader import load, run_roots
@@ -52,6 +53,9 @@ class CheckOptions:
     jobs: int | None = None  # worker processes for several files (None: default_jobs)
     changed: bool = False  # changed-files mode: the paths are files a commit changes (issue 13)
     look_through: bool = True  # check the robot with its safe fixes applied (see above)
+    # the output shows the edits of unsafe fixes (--fix, --diff, JSON, SARIF, the editor); text
+    # shows only their hints, so the costly ones are not derived (``rules.UNSAFE_EDITS``)
+    unsafe_edits: bool = True
 
 
 LOOKS = 3  # rounds of look-through: a fix can uncover more (a macro call's body)
@@ -91,6 +95,7 @@ def check_once(path: Path | str, options: CheckOptions, load_options=None):
     look-through, no suppressions."""
     source = load(path, load_options or options.load)
     robot = build_robot(source)
+    rules_module.UNSAFE_EDITS = options.unsafe_edits
     select = options.select or options.config.select
     ignore = options.ignore + options.config.ignore
     diagnostics: list[Diagnostic] = []

@@ -80,6 +80,7 @@ class MeshInfo:
 def clear_cache() -> None:
     global LOADS
     _CACHE.clear()
+    _COLUMNS.clear()
     LOADS = 0
 
 
@@ -470,20 +471,53 @@ def _summarise(path: Path, vertices, faces, mesh, need_volume: bool) -> MeshInfo
                     used_hull=used_hull)
 
 
+VECTOR_POINTS = 128  # hulls with more vertices are placed and queried with numpy
+
+
+def _columns(info: MeshInfo):
+    """The hull's (x, y, z) columns as float64 arrays, made once per mesh summary (both up-axis
+    readings when the file's up axis is ambiguous)."""
+    columns = _COLUMNS.get(id(info))
+    if columns is None or columns[0] is not info:
+        import numpy as np
+
+        hull = info.hull
+        if info.up_rotation is not None:
+            hull = (*hull, *(mat_vec(info.up_rotation, p) for p in hull))
+        array = np.array(hull, dtype=np.float64).reshape(-1, 3)
+        columns = _COLUMNS[id(info)] = (info, array[:, 0].copy(), array[:, 1].copy(),
+                                        array[:, 2].copy())
+    return columns[1:]
+
+
+_COLUMNS: dict[int, tuple] = {}  # id(MeshInfo) -> (the info, its hull's columns)
+
+
 class MeshExtent(Extent):
     """A mesh's convex hull placed in the link frame (scale, then rotation and translation).
     When the file's up axis is ambiguous, the hull of both readings (a superset: bounds and
-    inside tests stay on the safe side). Plain Python over the hull's vertices (tens to a few
-    hundred): a run whose meshes all come from the persistent cache imports no numpy."""
+    inside tests stay on the safe side). Plain Python over a small hull (a run whose meshes all
+    come from the persistent cache and are small imports no numpy); numpy over one of more than
+    ``VECTOR_POINTS`` vertices, with the same arithmetic element by element (the same floats,
+    the same vertex chosen among equals)."""
 
     def __init__(self, info: MeshInfo, scale: Vec3, rotation: Mat3, translation: Vec3):
         super().__init__(rotation, translation)
         hull = info.hull
-        if info.up_rotation is not None:  # either orientation: the union of both
-            hull = (*hull, *(mat_vec(info.up_rotation, p) for p in hull))
+        count = len(hull) * (2 if info.up_rotation is not None else 1)
         sx, sy, sz = scale
         (a, b, c), (d, e, f), (g, h, i) = rotation
         tx, ty, tz = translation
+        self.columns = None
+        if count > VECTOR_POINTS:
+            x, y, z = _columns(info)
+            x, y, z = x * sx, y * sy, z * sz
+            self.columns = (a * x + b * y + c * z + tx, d * x + e * y + f * z + ty,
+                            g * x + h * y + i * z + tz)
+            self.points = None
+            return
+        if info.up_rotation is not None:  # either orientation: the union of both
+            hull = (*hull, *(mat_vec(info.up_rotation, p) for p in hull))
         points = []
         for x, y, z in hull:
             x, y, z = x * sx, y * sy, z * sz
@@ -495,6 +529,10 @@ class MeshExtent(Extent):
         """The vertex farthest along ``direction`` (the first of equals; the first whose
         projection is nan, as numpy's argmax: a mesh of nan vertices stays nan)."""
         dx, dy, dz = direction
+        if self.columns is not None:
+            x, y, z = self.columns
+            k = int((x * dx + y * dy + z * dz).argmax())
+            return (float(x[k]), float(y[k]), float(z[k]))
         best, found = -math.inf, self.points[0]
         for p in self.points:
             value = p[0] * dx + p[1] * dy + p[2] * dz
@@ -512,6 +550,15 @@ class MeshExtent(Extent):
         for each axis (each vertex's offset and its squared length computed once); nan when
         one is nan (as numpy's max)."""
         ox, oy, oz = origin
+        if self.columns is not None:
+            x, y, z = self.columns
+            rx, ry, rz = x - ox, y - oy, z - oz
+            square = rx * rx + ry * ry + rz * rz
+            result = []
+            for ax, ay, az in axes:
+                along = rx * ax + ry * ay + rz * az
+                result.append(float((square - along * along).max()))
+            return result
         best = [-math.inf] * len(axes)
         for x, y, z in self.points:
             rx, ry, rz = x - ox, y - oy, z - oz

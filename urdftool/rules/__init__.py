@@ -72,6 +72,12 @@ def source_rule(rule_id: str, severity: str, summary: str, **docs):
     rule(rule_id, severity, summary, **docs)(report_problems)
 
 
+# whether a run's output shows the edits of unsafe fixes (--fix, --diff, JSON, SARIF, the
+# editor): rules whose unsafe edits are costly to derive skip them when not (``check.check_once``
+# sets it from ``CheckOptions.unsafe_edits``; the hint is the same either way)
+UNSAFE_EDITS = True
+
+
 def value_edits(robot: Robot, loc, names: tuple[str, ...], values: dict[str, str]):
     """(edits, note) setting attributes of the element written at ``loc`` (its tag one of
     ``names``) where each value was written (``urdftool.edits.value_edit``): all of them, or no

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 
+from urdftool import rules
 from urdftool.findings import Finding
 from urdftool.physics import links as analysis
 from urdftool.physics.links import AXIS_NAMES
@@ -91,6 +92,13 @@ _COMPONENTS = {"ixx": (0, 0), "ixy": (0, 1), "ixz": (0, 2), "iyy": (1, 1), "iyz"
                "izz": (2, 2)}
 
 
+def _unasked(robot) -> bool:
+    """The unsafe fix's edits are not asked for (``rules.UNSAFE_EDITS``: text output, no
+    --fix or --diff) and a plain URDF computes no value, so there is no "fix by hand" note to
+    give either: nothing to derive."""
+    return not rules.UNSAFE_EDITS and robot.source.kind == "urdf"
+
+
 def _tensor_edits(robot, a, values: dict[str, str]):
     """(edits, note) writing ``values`` into the link's <inertia> where they were written."""
     loc = a.link.inertial.inertia_loc if a.link.inertial is not None else None
@@ -102,6 +110,8 @@ def _tensor_edits(robot, a, values: dict[str, str]):
 def _derived_edits(robot, a):
     """The geometry's tensor for the declared mass (about its centroid, in the inertial
     frame) written into <inertia>."""
+    if _unasked(robot):
+        return (), ""
     if a.derived is not None:
         return _tensor_edits(robot, a, {name: f"{a.derived[i][j]:.6g}"
                                         for name, (i, j) in _COMPONENTS.items()})
@@ -126,6 +136,8 @@ def _derived_edits(robot, a):
 def _permuted_edits(robot, a):
     """The declared tensor with its axes put back: the author's own numbers, moved to the
     axes the geometry says they belong to."""
+    if _unasked(robot):
+        return (), ""
     import itertools
 
     d = [a.declared[i][i] for i in range(3)]
@@ -574,7 +586,7 @@ def com_outside_geometry(robot):
                  else "the body is flat in that direction")
         edits, note = (), ""
         origin = _origin_loc(robot, a.link)
-        if a.solid is not None and origin is not None:  # the COM put at the centroid
+        if a.solid is not None and origin is not None and not _unasked(robot):  # COM to centroid
             from urdftool.edits import number
 
             edits, note = value_edits(robot, origin, ("origin",),
