@@ -155,12 +155,40 @@ class FileReport:
         self.includes: tuple[str, ...] = ()  # every other file the check read (resolved paths)
         self.role = "entry"  # or "fragment": holds only definitions (urdftool.package)
 
-    def to_json(self) -> dict:
+    def to_json(self, per_rule: int | None = None) -> dict:
+        """The file's report; with ``per_rule``, at most that many findings of one rule in one
+        file, the rest counted in ``omitted`` (rule -> count)."""
+        kept, omitted = capped(self.diagnostics, per_rule)
         data = {"path": self.path, "robot": self.robot,
-                "diagnostics": [d.to_json() for d in self.diagnostics]}
+                "diagnostics": [d.to_json() for d in kept]}
+        if omitted:
+            data["omitted"] = omitted
         if self.args:
             data["args"] = self.args
         return data
+
+
+# machine formats list at most this many findings of one rule in one file (a hostile file of
+# thousands of one defect would otherwise make a report many times its size); the rest are
+# counted (``omitted``), and the summary and exit code count every one
+MACHINE_PER_RULE = 200
+
+
+def capped(diagnostics: list[Diagnostic], per_rule: int | None) -> tuple[list, dict[str, int]]:
+    """(the diagnostics listed, rule -> how many more of it are not): at most ``per_rule``
+    of one rule in one written file (all without a limit)."""
+    if per_rule is None:
+        return diagnostics, {}
+    counts: dict[tuple[str, str], int] = {}
+    kept, omitted = [], {}
+    for d in diagnostics:
+        key = (d.rule, d.path)
+        counts[key] = counts.get(key, 0) + 1
+        if counts[key] > per_rule:
+            omitted[d.rule] = omitted.get(d.rule, 0) + 1
+        else:
+            kept.append(d)
+    return kept, omitted
 
 
 class Report:
@@ -187,23 +215,31 @@ class Report:
         return {"files": len(self.files), "errors": self.count("error"),
                 "warnings": self.count("warning"), "infos": self.count("info")}
 
-    def to_json(self) -> dict:
-        return {"tool": "urdftool", "version": __version__,
-                "files": [f.to_json() for f in self.files], "summary": self.summary()}
+    def to_json(self, per_rule: int | None = None) -> dict:
+        files = [f.to_json(per_rule) for f in self.files]
+        summary = self.summary()
+        omitted = sum(n for f in files for n in f.get("omitted", {}).values())
+        if omitted:
+            summary["omitted"] = omitted
+        return {"tool": "urdftool", "version": __version__, "files": files, "summary": summary}
 
 
-def format_json(report: Report) -> str:
+def format_json(report: Report, per_rule: int | None = MACHINE_PER_RULE) -> str:
+    """The report as JSON: every finding (at most ``per_rule`` of one rule in one file, the
+    rest counted in the file's ``omitted`` and the summary's), messages and hints clipped."""
     from urdftool.display import json_safe
 
-    return json_safe(json.dumps(report.to_json(), indent=2))
+    return json_safe(json.dumps(report.to_json(per_rule), indent=2))
 
 
-def format_github(report: Report, annotate: set[str] | None = None) -> str:
+def format_github(report: Report, annotate: set[str] | None = None,
+                  per_rule: int = 20) -> str:
     """GitHub Actions workflow commands (``::error file=...,line=...::message``), escaped as
     GitHub documents: ``%``, CR and LF in the message; also ``:`` and ``,`` in properties.
     Other control characters are shown as ``\\x1b``... (``display.clean``). ``annotate``: the
     files (resolved paths) to annotate (a pull request's); a finding elsewhere is a plain log
-    line, and one notice counts them."""
+    line, and one notice counts them. At most ``per_rule`` findings of one rule in one file
+    (GitHub shows a few annotations per step): the rest are counted in one notice."""
     import os
 
     from urdftool.display import clean, clip, diagnostic_line, guard
@@ -215,24 +251,30 @@ def format_github(report: Report, annotate: set[str] | None = None) -> str:
         value = value.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
         return value.replace(":", "%3A").replace(",", "%2C") if prop else value
 
-    lines, elsewhere = [], 0
-    for d in report.diagnostics():
-        if annotate is not None and os.path.realpath(d.path) not in annotate:
-            elsewhere += 1
-            lines.append(guard(diagnostic_line(d.path, d.line, d.column, d.severity, d.rule,
-                                               clip(d.message))))
-            continue
-        props = [f"file={escape(d.path, True)}"]
-        if d.line:
-            props.append(f"line={d.line}")
-        if d.column:
-            props.append(f"col={d.column}")
-        props.append(f"title={escape(d.rule, True)}")
-        text = clip(d.message) + (f" (fix: {clip(d.hint)})" if d.hint else "")
-        lines.append(f"::{level[d.severity]} {','.join(props)}::{escape(text)}")
+    lines, elsewhere, omitted = [], 0, 0
+    for file in report.files:
+        listed, more = capped(file.diagnostics, per_rule)
+        omitted += sum(more.values())
+        for d in listed:
+            if annotate is not None and os.path.realpath(d.path) not in annotate:
+                elsewhere += 1
+                lines.append(guard(diagnostic_line(d.path, d.line, d.column, d.severity,
+                                                   d.rule, clip(d.message))))
+                continue
+            props = [f"file={escape(d.path, True)}"]
+            if d.line:
+                props.append(f"line={d.line}")
+            if d.column:
+                props.append(f"col={d.column}")
+            props.append(f"title={escape(d.rule, True)}")
+            text = clip(d.message) + (f" (fix: {clip(d.hint)})" if d.hint else "")
+            lines.append(f"::{level[d.severity]} {','.join(props)}::{escape(text)}")
     if elsewhere:
         lines.append(f"::notice::{elsewhere} finding(s) in files this change does not touch "
                      "(listed in the log, not annotated)")
+    if omitted:
+        lines.append(f"::notice title=urdftool::{omitted} more finding(s) not annotated (at "
+                     f"most {per_rule} per rule and file; --format json lists them)")
     return "\n".join(lines)
 
 
@@ -259,14 +301,19 @@ def _sarif_rule(rule_id: str, rule) -> dict:
 
 
 def format_sarif(report: Report | None, rules: dict | None = None,
-                 tool_error: str | None = None) -> str:
+                 tool_error: str | None = None, per_rule: int | None = MACHINE_PER_RULE) -> str:
     """SARIF 2.1.0, one run: the rules of its results (description and help from the rule
     docs, ``rules`` mapping id to ``rules.Rule``), the results, and an invocation that says
     whether the run succeeded; ``tool_error`` (a file that could not be read...) is a
-    ``toolExecutionNotification`` of a failed invocation."""
+    ``toolExecutionNotification`` of a failed invocation. At most ``per_rule`` results of one
+    rule in one file (the rest counted in a notification)."""
     from urdftool.display import clip, json_safe
 
-    diagnostics = report.diagnostics() if report is not None else []
+    diagnostics, omitted = [], 0
+    for file in (report.files if report is not None else ()):
+        listed, more = capped(file.diagnostics, per_rule)
+        diagnostics.extend(listed)
+        omitted += sum(more.values())
     rule_ids = sorted({d.rule for d in diagnostics})
     index = {rule_id: i for i, rule_id in enumerate(rule_ids)}
     results = []
@@ -290,6 +337,10 @@ def format_sarif(report: Report | None, rules: dict | None = None,
     if tool_error is not None:
         invocation["toolExecutionNotifications"] = [
             {"level": "error", "message": {"text": tool_error}}]
+    elif omitted:
+        invocation["toolExecutionNotifications"] = [{"level": "note", "message": {"text": (
+            f"{omitted} more finding(s) not listed (at most {per_rule} per rule and file; "
+            "the summary of --format json counts them)")}}]
     sarif = {
         "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
         "version": "2.1.0",
