@@ -113,7 +113,8 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixe
     options.load.sdf_model_paths = list(model_paths)
     options.jobs = jobs
     # text and GitHub annotations show a fix's hint, not its edits
-    options.unsafe_edits = bool(fix or diff) or (fmt in ("json", "sarif") and not statistics)
+    options.unsafe_edits = bool(fix or diff) or (fmt in ("json", "sarif") and not statistics) \
+        or any(value.split(":", 1)[0] in ("json", "sarif") for value in extra_outputs)
     if in_place and not fix:
         raise ToolError("--in-place goes with --fix")
     report_to = output_file or (None if fix else output)  # -o is the repaired file with --fix
