@@ -74,7 +74,9 @@ def xml_guard(document: str) -> str:
     them. A document without such a line is returned as is."""
     if guard(document) == document:
         return document
-    pieces = re.split(r"(<!--.*?-->|<!\[CDATA\[.*?\]\]>)", document, flags=re.DOTALL)
+    from urdftool.textscan import markup_split
+
+    pieces = markup_split(document)
     for index in range(0, len(pieces), 2):  # the text and markup between comments
         piece = _LEGACY.sub("&#35;", pieces[index])
         pieces[index] = _LINE_START.sub(r"\1&#58;", piece)

@@ -231,30 +231,46 @@ def attribute(text: str, tag: tuple[int, int], name: str):
     return match.start(1), match.end(1), match.start(group), match.end(group)
 
 
+_AFTER_NAME = frozenset(" \t\r\n\f\v/>")  # what may follow a tag's name (\\s, '/', '>')
+
+
 def end_tag(text: str, tag: tuple[int, int], name: str) -> tuple[int, int] | None:
     """The span of the name in the end tag matching the start tag ``tag`` (None when it is
-    self-closing or not found). Comments and CDATA are skipped."""
+    self-closing or not found). Comments and CDATA are skipped (``str.find``: an unterminated
+    comment repeated is looked at once, issue 21)."""
     if text[tag[1] - 2] == "/":
         return None
-    pattern = re.compile(r"<!--.*?-->|<!\[CDATA\[.*?\]\]>|<(/?)" + re.escape(name)
-                         + r"(?=[\s/>])", re.DOTALL)
     depth = 1
     position = tag[1]
+    size = len(name)
+    unclosed: set[str] = set()  # a closer not found once is not found later either
     while True:
-        match = pattern.search(text, position)
-        if match is None:
+        start = text.find("<", position)
+        if start < 0:
             return None
-        position = match.end()
-        if match.group(0).startswith("<!"):
-            continue
-        if match.group(1):
-            depth -= 1
-            if depth == 0:
-                return match.start() + 2, match.end()
+        position = start + 1
+        for opener, closer in (("<!--", "-->"), ("<![CDATA[", "]]>")):
+            if closer not in unclosed and text.startswith(opener, start):
+                end = text.find(closer, start + len(opener))
+                if end < 0:
+                    unclosed.add(closer)
+                    continue
+                position = end + len(closer)
+                break
         else:
-            end = tag_end(text, match.start())
-            if end is not None and text[end - 2] != "/":
-                depth += 1
+            closing = text.startswith("/", start + 1)
+            at = start + 1 + closing
+            if not text.startswith(name, at) or at + size >= len(text) \
+                    or text[at + size] not in _AFTER_NAME:
+                continue
+            if closing:
+                depth -= 1
+                if depth == 0:
+                    return start + 2, at + size
+            else:
+                end = tag_end(text, start)
+                if end is not None and text[end - 2] != "/":
+                    depth += 1
 
 
 def attribute_loc(texts: dict[str, str], loc, names: tuple[str, ...], attr: str):

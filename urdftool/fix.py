@@ -92,11 +92,9 @@ def encoded(path: str | Path, original: str, fixed: str) -> tuple[str, str]:
     if encoding == "utf-8":
         if fixed.isascii():
             return fixed, encoding
-        import re
+        from urdftool.textscan import declared_utf8
 
-        # read as UTF-8 whatever the declaration says: make it say so
-        fixed = re.sub(r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2", r"\1\2UTF-8\2", fixed,
-                       count=1)
+        fixed = declared_utf8(fixed)  # read as UTF-8 whatever the declaration says: say so
         return fixed, encoding
     lines, before, after = raw.split("\n"), original.split("\n"), fixed.split("\n")
     if not len(lines) == len(before) == len(after):

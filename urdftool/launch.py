@@ -26,7 +26,8 @@ MAX_BYTES = 256 * 1024
 MAX_SETS = 8  # argument sets per xacro file
 _MAPPING = re.compile(r"(?<![\w$])([A-Za-z_]\w*):=(\S*)")
 _SUBSTITUTION = re.compile(r"\$\((?:arg|var) ([A-Za-z_]\w*)\)")
-_XACRO_NAME = re.compile(r"[\w.-]+\.xacro\b")
+# a name starts where a run of name characters starts (one try per run: linear)
+_XACRO_NAME = re.compile(r"(?<![\w.-])[\w.-]+\.xacro\b")
 
 
 def launch_arguments(root: Path) -> dict[str, list[tuple[dict[str, str], str]]]:

@@ -22,6 +22,7 @@ from urdftool.errors import ToolError
 from urdftool.files import read_regular, read_regular_text
 from urdftool.findings import Finding, Loc
 from urdftool.packages import PackageResolver
+from urdftool.textscan import declared_utf8, without_comments
 from urdftool.xmlrepair import repair_and_parse, secure_parser
 
 ROBOT_SUFFIXES = (".urdf", ".xacro", ".sdf")
@@ -30,8 +31,6 @@ VIA_ATTR = "urdftool-via"
 # Patterns are compiled on first use (``re`` caches them), not at import: most runs need few.
 # xacro is run only when the file uses it: many generated URDFs keep an unused xmlns:xacro.
 _XACRO_USE = r"<xacro:|\$\{|\$\((?:find|arg|env|optenv|eval|dirname) "
-_COMMENT = r"(?s)<!--.*?-->"
-_ENCODING_DECL = r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2"
 
 
 # seconds for one xacro expansion, and under --untrusted for one file or mesh the sandboxed
@@ -181,7 +180,7 @@ def detect_kind(path: Path, text: str) -> str:
     if path.suffix == ".xacro":
         return "xacro"
     pattern = "<xacro:" if path.suffix == ".urdf" else _XACRO_USE
-    if re.search(pattern, text) and re.search(pattern, re.sub(_COMMENT, "", text)):
+    if re.search(pattern, text) and re.search(pattern, without_comments(text)):
         return "xacro"
     return "urdf"
 
@@ -221,7 +220,7 @@ def read_text(path: Path) -> str:
                           (codecs.BOM_UTF16_BE, "utf-16")):
         if data.startswith(bom):
             try:
-                return re.sub(_ENCODING_DECL, r"\1\2UTF-8\2", data.decode(encoding), count=1)
+                return declared_utf8(data.decode(encoding))
             except UnicodeDecodeError:
                 break
     if b"\x00" in data[:4096]:
@@ -245,7 +244,7 @@ def read_input(path: Path, options: LoadOptions | None) -> str:
 
 def _utf8_bytes(text: str) -> bytes:
     """The text as UTF-8 bytes with any encoding declaration made to agree."""
-    return re.sub(_ENCODING_DECL, r"\1\2UTF-8\2", text, count=1).encode("utf-8")
+    return declared_utf8(text).encode("utf-8")
 
 
 def parse_text(text: str, path: str, source: Source) -> etree._Element | None:
@@ -385,7 +384,8 @@ def quiet_stderr():
 
 
 # includes, old unprefixed ones too: the files they name are fragments, not robots
-_INCLUDE = r"<(?:xacro:)?include\s[^>]*filename\s*=\s*[\"']([^\"']+)[\"']"
+# (the tag's text never crosses a '<': each match looks at the text up to the next one)
+_INCLUDE = r"<(?:xacro:)?include\s[^<>]*filename\s*=\s*[\"']([^\"'<]+)[\"']"
 
 
 def discover(paths: list[str]) -> list[Path]:

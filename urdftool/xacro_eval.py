@@ -299,6 +299,13 @@ def _measure(value, budget: int, tick=None, work=False) -> int:
             kinds = set(map(type, children))
             if kinds <= _FLAT and work:
                 total += len(children)
+                if str in kinds:  # by chunks: a terabyte of references stops early
+                    for start in range(0, len(children), 1 << 15):
+                        chunk = children[start:start + (1 << 15)]
+                        total += sum(map(len, chunk)) if kinds == {str} else \
+                            sum([len(c) for c in chunk if type(c) is str])
+                        if total > budget:
+                            break
             elif kinds <= _FLAT:  # no containers among them: sized without a Python loop
                 total += (24 if float in kinds else 4) * len(children)
                 if str in kinds:
@@ -438,8 +445,10 @@ class Interpreter:
                 result = self.eval(tree.body, {})
             finally:
                 self._lookup = saved
-            if type(result) not in _SCALARS and not isinstance(result, _OWN):
-                _measure(result, MAX_RESULT, self.tick)
+            if type(result) is str:
+                self.charge(len(result))  # copied into the document (a property reference)
+            elif type(result) not in _SCALARS and not isinstance(result, _OWN):
+                self.charge(_measure(result, MAX_RESULT, self.tick))
             return result
         except UnsafeExpression as exc:
             if exc.partial:
@@ -461,20 +470,36 @@ class Interpreter:
                 and time.monotonic() > self.deadline:
             raise Deadline("xacro expansion took longer than the time limit")
 
+    def clock(self):
+        """The deadline, read now: before and after every call that can take more than
+        constant time (a function or method, C code walking data, a large value built)."""
+        if self.deadline is not None and time.monotonic() > self.deadline:
+            raise Deadline("xacro expansion took longer than the time limit")
+
+    def charge(self, size: int):
+        """Account for ``size`` characters (bytes) of work or data: built, or handed back
+        to xacro (a property reference copies its value into the document)."""
+        self.spent += size
+        if self.spent > MAX_BUDGET:
+            raise LimitExceeded(f"expressions built or referenced more than {MAX_BUDGET} "
+                                "characters in all")
+        if size > 4096:
+            self.clock()
+
     def made(self, value):
         """Account for a value an operation built; refuse it when too large."""
         kind = type(value)
         if kind is int:
-            if value.bit_length() > MAX_INT_BITS:
+            bits = value.bit_length()
+            if bits > MAX_INT_BITS:
                 raise LimitExceeded(f"an integer of more than {MAX_INT_BITS} bits")
+            if bits > 64:
+                self.charge(bits >> 3)  # its bytes
         elif kind in (str, list, tuple, dict, set, frozenset):
             size = len(value)
             if size > MAX_ITEMS:
                 raise LimitExceeded(f"a {kind.__name__} of {size} items (limit {MAX_ITEMS})")
-            self.spent += size
-            if self.spent > MAX_BUDGET:
-                raise LimitExceeded(f"expressions built more than {MAX_BUDGET} characters and "
-                                    "items in all")
+            self.charge(size)
         return value
 
     def grows(self, size, what="a value"):
@@ -483,7 +508,10 @@ class Interpreter:
             raise LimitExceeded(f"{what} of {size} items or characters (limit {MAX_ITEMS})")
 
     def bounded(self, *values):
-        """Measure nested data before C code walks it (compare, hash, sort, membership)."""
+        """Measure nested data before C code walks it (compare, hash, sort, membership):
+        items and the characters of the strings among them (a million references to one
+        1 MB string is a terabyte to compare)."""
+        self.clock()
         for value in values:
             if type(value) not in _SCALARS and not isinstance(value, (range, slice, *_OWN)):
                 _measure(value, MAX_TREE, self.tick, work=True)
@@ -756,6 +784,7 @@ class Interpreter:
 
     def call(self, function, args, kwargs=None):
         self.tick()
+        self.clock()
         kwargs = kwargs or {}
         if type(function) is Function:
             return function.impl(self, list(args), kwargs)
@@ -993,6 +1022,14 @@ class Interpreter:
             def fetch_more_tokens(self):
                 interpreter.tick()
                 return super().fetch_more_tokens()
+
+            def flatten_mapping(self, node):
+                # merge keys (<<): PyYAML copies the merged pairs into every mapping that
+                # merges them, again for every level (a chain of merges is quadratic): the
+                # pairs are charged as they are copied
+                super().flatten_mapping(node)
+                interpreter.charge(len(node.value))
+                interpreter.clock()
 
             def compose_node(self, parent, index):
                 Loader.nodes += 1

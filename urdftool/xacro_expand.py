@@ -124,6 +124,9 @@ class OutsidePackage(Exception):
 
 
 BLANK_ATTR = "urdftool-blank"
+# seconds past the deadline after which the watchdog interrupts a trusted expansion (the
+# interpreter's own deadline stops it first when it is the one working)
+WATCHDOG_GRACE = 0.2
 
 
 def _mark_blank_only(doc) -> None:
@@ -258,7 +261,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         """The line of a condition (xacro gives get_boolean_value its text, not its node)."""
         shown = files.paths[int(where[-1].split(":")[0])] if where else source.path
         text = source.texts.get(shown, "")
-        found = re.search(r"<(?:xacro:)?(?:if|unless)\s[^>]*?value\s*=\s*[\"']"
+        found = re.search(r"<(?:xacro:)?(?:if|unless)\s[^<>]*?value\s*=\s*[\"']"
                           + re.escape(condition) + "[\"']", text)
         if found is None:
             return current_loc()
@@ -582,13 +585,29 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
     """Expand ``path`` into ``source.root`` with locations in ``source.locs``; xacro errors
     become ``xacro.*`` problems at the line where they happened (in this process: the loader
     decides where, ``urdftool.loader``)."""
-    timeout = getattr(options, "timeout", None)
+    from urdftool import budget, sandbox
+    from urdftool.xacro_eval import Deadline
+
+    timeout = budget.clamp(getattr(options, "timeout", None))  # at most what the run has left
     deadline = time.monotonic() + timeout if timeout else None
-    # files only inside the run's roots (urdftool.loader), in every mode; variables only
-    # the --allow-env ones
-    result = _xacro_pass(source, path, options,
-                         _Policy(deadline, getattr(options, "roots", None),
-                                 frozenset(options.allow_env)))
+
+    def late() -> Deadline:
+        return Deadline("xacro expansion took longer than the time limit")
+
+    # in this process (--trusted): a watchdog stops what the interpreter does not count
+    # (xacro's and PyYAML's own Python) shortly after the deadline; the sandboxed reader is
+    # killed by its parent instead
+    watched = timeout + WATCHDOG_GRACE if timeout and not sandbox.IN_CHILD else None
+    try:
+        with budget.watchdog(watched, late):
+            # files only inside the run's roots (urdftool.loader), in every mode; variables
+            # only the --allow-env ones
+            result = _xacro_pass(source, path, options,
+                                 _Policy(deadline, getattr(options, "roots", None),
+                                         frozenset(options.allow_env)))
+    except Deadline as exc:  # raised outside xacro's own run (setting up, reporting)
+        result = Expansion(None, [], [("xacro.limit-exceeded", Finding(
+            f"xacro: {exc}; expansion stopped", Loc(source.path, None, None)))], {})
     source.problems.extend(result.problems)
     source.reads.update(result.reads)
     for shown, text in result.texts.items():

@@ -28,6 +28,7 @@ from collections import deque
 from lxml import etree
 
 from urdftool.findings import Finding, Loc
+from urdftool.textscan import declared_utf8, tag_closes
 
 MAX_REPAIRS = 200  # recognised breakages per file; then stop and let the parser speak
 MAX_ROUNDS = 8  # scan -> edit -> strict parse rounds
@@ -48,11 +49,11 @@ _PATTERNS = {
     "good_declaration": (r"""<\?xml\s+version\s*=\s*(["'])([^"'\n<>?]*)\1"""
                          r"""(?:\s+encoding\s*=\s*(["'])[A-Za-z][-\w.]*\3)?"""
                          r"""(?:\s+standalone\s*=\s*(["'])(?:yes|no)\4)?\s*\?>"""),
-    "encoding_declaration": r"(<\?xml[^>]*?encoding\s*=\s*)([\"'])[^\"']*\2",
     "name": r"[^\W\d][-\w.:]*",
     "bad_chars": "[\x00-\x08\x0b\x0c\x0e-\x1f\ufffe\uffff\ud800-\udfff]+",
     "entity": r"&(?:#[0-9]+|#x[0-9a-fA-F]+|([^\W\d][-\w.:]*));",
-    "attribute": r"([^\W\d][-\w.:]*)\s*=\s*(\"[^\"]*\"|'[^']*')",
+    # (a name starts where a run of name characters starts: one try per run, linear)
+    "attribute": r"(?<![-\w.:])([^\W\d][-\w.:]*)\s*=\s*(\"[^\"]*\"|'[^']*')",
     # A line of text that is a tag without its '<': 'link name="a">', 'imit effort="1"/>',
     # '/link>'. Only text at the start of a line is considered.
     "taglike": (r"""(?m)^[ \t]*(?P<slash>/)?(?P<name>[^\s<>"'=/&]+)"""
@@ -131,7 +132,7 @@ def secure_parser(recover: bool = False) -> etree.XMLParser:
 def _xml_bytes(text: str) -> bytes:
     """The text as UTF-8 bytes with any encoding declaration made to agree."""
     if "encoding" in text[:300] and not text.startswith(_UTF8_DECLARATIONS):
-        text = _RE.encoding_declaration.sub(r"\1\2UTF-8\2", text, count=1)
+        text = declared_utf8(text)
     return text.encode("utf-8", "surrogatepass")
 
 
@@ -362,7 +363,7 @@ class _Scanner:
         if match:
             return self.start_tag(j, match)
         spaced = re.compile(r"<[ \t]+([^\W\d][-\w.:]*)").match(t, j)
-        if spaced and re.compile(r"[^<>]*>").match(t, spaced.end()):
+        if spaced and tag_closes(t, spaced.end()):
             self.report("xml.bad-tag", f"space between '<' and the tag name '{spaced.group(1)}'",
                         j, hint=f"write <{spaced.group(1)} without the space")
             self.edit(j + 1, spaced.start(1), "")

@@ -21,7 +21,7 @@ from urdftool.physics.inertia import Extent, Mat3, Solid, Vec3, mat_vec, sub
 
 # formats trimesh reads (after pycollada for DAE); others (Ogre .mesh, VTK...) are not checked
 LOADABLE = {".stl", ".obj", ".dae", ".ply", ".off", ".glb", ".gltf", ".3mf", ".zae"}
-_UNIT_RE = re.compile(rb"<unit\b[^>]*\bmeter\s*=\s*[\"']([^\"']+)[\"']")
+_UNIT_RE = re.compile(rb"<unit\b[^<>]*\bmeter\s*=\s*[\"']([^\"'<]+)[\"']")
 _UP_RE = re.compile(rb"<up_axis>\s*([XYZ])_UP\s*</up_axis>")
 # COLLADA up axis -> the rotation that makes it z (what assimp-based ROS tools do)
 _UP_ROTATIONS = {b"Y": ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0)),
@@ -382,8 +382,23 @@ def _load_collada_geometry_only(path: Path):
 
     import trimesh
 
-    data = re.sub(rb"<bind_material>.*?</bind_material>", b"", path.read_bytes(), flags=re.DOTALL)
+    data = _without_elements(path.read_bytes(), b"bind_material")
     return trimesh.load(io.BytesIO(data), file_type="dae", force="mesh", process=False)
+
+
+def _without_elements(data: bytes, name: bytes) -> bytes:
+    """``data`` without its ``<name>...</name>`` elements (``str.find``: linear; an unclosed
+    one is left)."""
+    opener, closer = b"<" + name + b">", b"</" + name + b">"
+    pieces, position = [], 0
+    while True:
+        start = data.find(opener, position)
+        end = data.find(closer, start) if start >= 0 else -1
+        if end < 0:
+            pieces.append(data[position:])
+            return b"".join(pieces)
+        pieces.append(data[position:start])
+        position = end + len(closer)
 
 
 def _solid(props, sign: float = 1.0) -> Solid | None:

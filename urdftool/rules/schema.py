@@ -76,7 +76,7 @@ def _allowed_in(table: dict) -> dict[str, list[str]]:
 
 _NUMBER_RE = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
 _INT_RE = re.compile(r"[+-]?\d+")
-_VERSION_RE = re.compile(r"\d+\.\d+")
+_VERSION_RE = re.compile(r"(?<!\d)\d+\.\d+")
 _NONFINITE = {"nan", "+nan", "-nan", "inf", "+inf", "-inf", "infinity", "+infinity", "-infinity"}
 
 

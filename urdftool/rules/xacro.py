@@ -49,7 +49,7 @@ _EXPRESSION = r"(?s)when evaluating expression '(?P<expr>.*)'"
 
 def _defined_names(robot: Robot, kind: str) -> list[str]:
     """Names of xacro properties/args/macros defined in every file read for this robot."""
-    pattern = re.compile(rf"<(?:xacro:)?{kind}\b[^>]*?\bname\s*=\s*[\"']([^\"'$]+)[\"']")
+    pattern = re.compile(rf"<(?:xacro:)?{kind}\b[^<>]*?\bname\s*=\s*[\"']([^\"'$<]+)[\"']")
     names: set[str] = set()
     for text in robot.source.texts.values():
         names.update(pattern.findall(text))
@@ -147,7 +147,7 @@ def xacro_error(robot: Robot):
         yield Finding(message, finding.loc, hint=hint or finding.hint, severity=finding.severity)
 
 
-_OLD_TAG_RE = re.compile(r"<(property|macro|include|arg)\s+[^>]*?\b(?:name|filename)\s*=")
+_OLD_TAG_RE = re.compile(r"<(property|macro|include|arg)\s[^<>]*?\b(?:name|filename)\s*=")
 
 
 # -- old unprefixed xacro tags -----------------------------------------------------------------
@@ -314,7 +314,7 @@ def _is_sdf_include(element) -> bool:
 
 # macro calls without the prefix ----------------------------------------------------------------
 
-_MACRO_RE = re.compile(r"<(?:xacro:)?macro\b[^>]*?\bname\s*=\s*[\"']([^\"']+)[\"']")
+_MACRO_RE = re.compile(r"<(?:xacro:)?macro\b[^<>]*?\bname\s*=\s*[\"']([^\"'<]+)[\"']")
 
 
 def robot_files(robot: Robot) -> dict[str, str]:

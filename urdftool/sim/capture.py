@@ -57,7 +57,7 @@ def captured_fds():
             captured.text = sink.read().decode("utf-8", errors="replace")
 
 
-_B3_RE = re.compile(r"b3(?:Warning|Error|Printf)\[[^\]]*\]:\s*\n?")
+_B3_RE = re.compile(r"b3(?:Warning|Error|Printf)\[[^][\n]*\]:\s*\n?")
 
 
 def bullet_messages(text: str) -> list[str]:

@@ -126,7 +126,7 @@ class _Run:
         # model is loaded that way and self-collision is switched off again with collision
         # groups before stepping; a model with collision groups of its own in the URDF is
         # instead asked through a second copy of it (twice the load time)
-        self.twin_query = bool(re.search(r"<collision\b[^>]*\b(group|mask)\s*=",
+        self.twin_query = bool(re.search(r"<collision\b[^<>]*\b(group|mask)\s*=",
                                          prepared.urdf_text))
         self.limits = options.thresholds
         self.load_error: str | None = None

@@ -288,7 +288,8 @@ def _rewrite_tree_uris(root, source, prepared: Prepared) -> None:
             _note_unresolved(prepared, filename)
 
 
-_FILENAME_RE = re.compile(r"(<(?:mesh|texture)\b[^>]*?\bfilename\s*=\s*)([\"'])(.*?)\2", re.DOTALL)
+# (a tag's text never crosses a '<': each match looks no further than the next one)
+_FILENAME_RE = re.compile(r"(<(?:mesh|texture)\b[^<>]*?\bfilename\s*=\s*)([\"'])([^<]*?)\2")
 
 
 def _rewrite_text_uris(text: str, source, prepared: Prepared) -> str:
