@@ -106,9 +106,14 @@ def write_baseline(report: Report, path: Path) -> None:
     write_output(text + "\n", str(path))
 
 
+# a baseline holds a record (~300 bytes) per accepted finding: tens of thousands fit; a larger
+# file is refused unread (issue 21: JSON parsing is linear, the matching is per finding)
+MAX_BASELINE_BYTES = 8 << 20
+
+
 def read_baseline(path: Path) -> list[dict]:
     try:
-        data = json.loads(read_regular(path).decode("utf-8"))
+        data = json.loads(read_regular(path, MAX_BASELINE_BYTES).decode("utf-8"))
         records = data["findings"]
         if data.get("baseline") != FORMAT or not isinstance(records, list):
             raise ValueError("not a urdftool baseline")
@@ -120,7 +125,7 @@ def read_baseline(path: Path) -> list[dict]:
     except FileNotFoundError:
         raise ToolError(f"{path}: no such baseline file (write one with --write-baseline)") \
             from None
-    except (OSError, ValueError, KeyError, TypeError) as exc:
+    except (OSError, ValueError, KeyError, TypeError, RecursionError) as exc:
         raise ToolError(f"{path}: cannot read the baseline: {exc}") from None
 
 

@@ -16,6 +16,7 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from urdftool import budget
 from urdftool import rules as rules_module
 from urdftool.config import Config, suppressions
 from urdftool.errors import ToolError
@@ -180,6 +181,8 @@ def _look_through(path, options: CheckOptions, load_options: LoadOptions, source
         load_options = copy.copy(load_options)
         load_options.lenient = True
     for round_ in range(LOOKS):
+        if budget.spent():  # the run's time is out: what was found so far is the report
+            break
         safe = [d for d in current if _safe(d)]
         edits = [e for d in safe for e in d.fix.edits]
         made: dict[str, list] = {}
@@ -228,6 +231,8 @@ def check_model(path: Path | str, options: CheckOptions | None = None,
     """(``check_file``'s report, the robot the rules ran on): the language server answers
     hovers from the model of its last check."""
     options = options or CheckOptions()
+    if budget.spent():
+        return not_checked(path, target), None
     load_options = target_options(options, target)
     source, robot, diagnostics = check_once(path, options, load_options)
     texts = source.texts
@@ -237,6 +242,19 @@ def check_model(path: Path | str, options: CheckOptions | None = None,
     report = finish(source, robot, diagnostics, texts)
     report.args = target.args if target is not None else {}
     return report, robot
+
+
+def not_checked(path: Path | str, target: Target | None = None) -> FileReport:
+    """The report of a file the run had no time left for (issue 21): one
+    ``xacro.limit-exceeded`` finding, an error (the gate must not pass what it did not read)."""
+    message = f"not checked: {budget.describe()}"
+    if target is not None and target.args:
+        message += " (with " + " ".join(f"{k}:={v}" for k, v in target.args.items()) + ")"
+    report = FileReport(str(path), None, [Diagnostic(
+        "xacro.limit-exceeded", "error", message, str(path), None, None, None,
+        "raise --timeout, or check fewer files in one run")], {})
+    report.args = target.args if target is not None else {}
+    return report
 
 
 def finish(source, robot, diagnostics: list[Diagnostic], texts: dict[str, str]) -> FileReport:
@@ -312,6 +330,9 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
     """Check every robot file under ``paths``. Raises ToolError when there is nothing to check,
     and the error of the first file (in order) that cannot be checked at all. ``progress(done,
     total)`` is called as files are done (the CLI's progress display)."""
+    import time
+
+    started = time.monotonic()
     options = copy.copy(options or CheckOptions())
     # what the run may read, once, from the operator's options and the paths given: before
     # any configuration is read (its packages and entries are clamped inside the repository)
@@ -330,6 +351,9 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
     thresholds = gc.get_threshold()
     gc.set_threshold(max(thresholds[0], 20000), *thresholds[1:])
     try:
+        # one budget for the run: --timeout for each distinct file found (a file listed many
+        # times in the configuration's entries shares its own)
+        budget.start(options.load.timeout, len({os.path.realpath(f.path) for f in files}), started)
         todo, reports = unaffected(files, given, options.load)  # changed files: what reads them
         targets = [files[i] for i in todo]
         jobs = min(options.jobs or default_jobs([t.path for t in targets]), len(targets))
@@ -353,6 +377,7 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
         return report
     finally:
         gc.set_threshold(*thresholds)
+        budget.stop()
 
 
 PROBE = 0.5  # seconds of checking in this process before deciding on workers

@@ -85,13 +85,20 @@ def _config_in(directory: Path) -> tuple[Path, dict] | bool:
     return False
 
 
+# a configuration file larger than this is refused unread (issue 21: a pyproject.toml with
+# another tool's 16 MB table took seconds to parse before anything was checked)
+MAX_CONFIG_BYTES = 256 << 10
+
+
 def _read_toml(path: Path) -> dict:
     try:
         import tomllib
     except ImportError:  # Python 3.10
         import tomli as tomllib  # type: ignore[no-redef]
     try:
-        return tomllib.loads(read_regular(path, 16 << 20).decode("utf-8"))
+        return tomllib.loads(read_regular(path, MAX_CONFIG_BYTES).decode("utf-8"))
+    except RecursionError:  # tomllib recurses into nested arrays and tables
+        raise ToolError(f"{path}: cannot read configuration: nested too deeply") from None
     except (OSError, ValueError, UnicodeDecodeError) as exc:
         raise ToolError(f"{path}: cannot read configuration: {exc}") from None
 

@@ -50,8 +50,8 @@ def read_regular(path, limit: int = MAX_BYTES) -> bytes:
             raise OSError(errno.EINVAL, "not a regular file (a device, FIFO or socket): not read",
                           str(path))
         if info.st_size > limit:
-            raise OSError(errno.EFBIG, f"{info.st_size >> 20} MB, larger than the "
-                                       f"{limit >> 20} MB urdftool reads: not read", str(path))
+            raise OSError(errno.EFBIG, f"{_size(info.st_size)}, larger than the "
+                                       f"{_size(limit)} urdftool reads: not read", str(path))
     except BaseException:
         os.close(fd)
         raise
@@ -61,8 +61,12 @@ def read_regular(path, limit: int = MAX_BYTES) -> bytes:
         if len(data) > info.st_size:  # grew since, or a size the system does not know (/proc)
             data += handle.read(limit + 1 - len(data))
     if len(data) > limit:
-        raise OSError(errno.EFBIG, f"larger than the {limit >> 20} MB urdftool reads", str(path))
+        raise OSError(errno.EFBIG, f"larger than the {_size(limit)} urdftool reads", str(path))
     return data
+
+
+def _size(size: int) -> str:
+    return f"{size >> 20} MB" if size >= 1 << 20 else f"{size >> 10} KB"
 
 
 def read_regular_text(path, limit: int = MAX_BYTES) -> str:

@@ -37,12 +37,31 @@ def fix_file(path: str | Path, options: CheckOptions, unsafe: bool = False) -> F
     """Fix ``path`` (and the files it includes) in memory."""
     import copy
 
+    from urdftool import budget
+
+    reading = copy.copy(options.load)
+    reading.lenient = True  # past undefined xacro names: the rest still gets its fixes
+    own = budget.remaining() is None  # every round and the last check share one budget
+    if own:
+        budget.start(options.load.timeout, 1)
+    try:
+        return _fix_rounds(path, options, unsafe, reading)
+    finally:
+        if own:
+            budget.stop()
+
+
+def _fix_rounds(path, options: CheckOptions, unsafe: bool, reading) -> FixResult:
+    import copy
+
+    from urdftool import budget
+
     originals: dict[str, str] = {}
     texts: dict[str, str] = {}
     fixed: set = set()
-    reading = copy.copy(options.load)
-    reading.lenient = True  # past undefined xacro names: the rest still gets its fixes
     for _ in range(MAX_ROUNDS):
+        if budget.spent():
+            break
         source, _, diagnostics = check_once(path, options, overlay_options(reading, texts))
         for name, text in source.texts.items():
             originals.setdefault(name, text)

@@ -179,8 +179,10 @@ class Child:
 
     def _exchange(self, request: dict, timeout: float | None, what: str,
                   grace: float = GRACE_SECONDS) -> dict:
+        from urdftool import budget
         from urdftool.xacro_eval import LimitExceeded
 
+        timeout = budget.clamp(timeout)  # at most what the run has left (issue 21)
         try:
             self.process.stdin.write(json.dumps(request).encode("utf-8") + b"\n")
             self.process.stdin.flush()
@@ -288,6 +290,7 @@ def _notice(layers: dict[str, str]) -> None:
 
 def load_source(path: Path, options, resolver, kind: str):
     """A xacro or SDF input read, expanded and converted in the sandboxed reader."""
+    from urdftool import budget
     from urdftool.findings import Finding, Loc
     from urdftool.source import Source
     from urdftool.xacro_eval import LimitExceeded
@@ -297,7 +300,7 @@ def load_source(path: Path, options, resolver, kind: str):
     request = {"op": "load", "path": os.fspath(path), "packages": dict(options.packages),
                "xacro_args": dict(options.xacro_args), "sdf_model": options.sdf_model,
                "sdf_model_paths": list(options.sdf_model_paths),
-               "allow_env": list(options.allow_env), "timeout": options.timeout,
+               "allow_env": list(options.allow_env), "timeout": budget.clamp(options.timeout),
                "overlay": dict(options.overlay), "lenient": options.lenient,
                "roots": resolver.roots.to_json(), "crawls": _crawls(resolver.roots)}
     what = "xacro expansion" if kind == "xacro" else "SDF reading"

@@ -33,6 +33,7 @@ MAX_ITEMS = 1_000_000  # characters or items of one value an expression builds
 MAX_TREE = 4_000_000  # expanded size (shared parts counted each time) of data C code walks
 MAX_RESULT = 16_000_000  # expanded size of a value handed back to xacro (which str()s it)
 MAX_BUDGET = 8_000_000  # characters and items built by all expressions of one expansion
+MAX_TEXT = 1 << 18  # characters of one string handed back to xacro (an attribute, a property)
 MAX_INT_BITS = 1 << 16  # ~19 700 decimal digits
 MAX_STR_BITS = 14_000  # int -> decimal str (Python's own default limit is 4300 digits)
 MAX_WIDTH = 10_000  # format widths and precisions
@@ -446,6 +447,9 @@ class Interpreter:
             finally:
                 self._lookup = saved
             if type(result) is str:
+                if len(result) > MAX_TEXT:  # it goes into the document: refused at its source
+                    raise LimitExceeded(f"a string of {len(result)} characters for the "
+                                        f"document (limit {MAX_TEXT})")
                 self.charge(len(result))  # copied into the document (a property reference)
             elif type(result) not in _SCALARS and not isinstance(result, _OWN):
                 self.charge(_measure(result, MAX_RESULT, self.tick))

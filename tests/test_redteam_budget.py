@@ -1,0 +1,153 @@
+"""Issue 21: small hostile files that attacked the work *around* the reader (scans of file
+content in the parent, the run's budget, the trusted interpreter's accounting), through every
+reading command, trusted and ``CI=true``, with ``--timeout 1``: each run finishes under
+2 x --timeout plus start-up, the runs' peak memory stays under 1 GB, a report under 1 MB for
+an input under 1 MB, no traceback, exit 0, 1 or 2.
+
+The runs go through one process (``tests/redteam_batch.py``), as ``tests/test_redteam.py``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from tests.conftest import ROOT
+
+TIMEOUT = 1.0
+STARTUP = 1.5  # seconds a run may take beyond 2 x --timeout (imports, the reader's start)
+MEGABYTES = 1024
+REPORT_BYTES = 1 << 20
+HEAD = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+ARM = ('  <link name="base"/>\n  <link name="tip"><inertial><mass value="1"/><inertia ixx="1" '
+       'iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>\n'
+       '  <joint name="j" type="revolute"><parent link="base"/><child link="tip"/>'
+       '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n')
+READING = ["check", "expand", "inertia", "limits", "tree", "dh", "jacobian", "sim"]
+EXTRA = {"jacobian": ["--tip", "tip"], "sim": ["--duration", "0.05"], "dh": ["--tip", "tip"]}
+
+
+def _cases(base: Path) -> dict[str, tuple[Path, list[str]]]:
+    package = base / "budget_pkg"
+    (package / "urdf").mkdir(parents=True)
+    (package / "package.xml").write_text("<package><name>budget_pkg</name></package>")
+    cases: dict[str, tuple[Path, list[str]]] = {}
+
+    def add(name, text, suffix=".urdf.xacro", commands=READING, data=None):
+        directory = package / name
+        directory.mkdir()
+        path = directory / f"robot{suffix}"
+        path.write_bytes(text.encode("utf-8") if isinstance(text, str) else text)
+        for file, content in (data or {}).items():
+            (directory / file).write_text(content)
+        cases[name] = (path, [c for c in commands if suffix != ".urdf" or c != "expand"])
+
+    size = 300_000  # a few hundred KB: minutes for each quadratic scan
+    robot = HEAD + ARM
+    # scans of file content in the parent (kind detection, includes, suppressions, encoding)
+    add("unterminated-comments", robot + "<!--" * (size // 4) + "</robot>\n", suffix=".urdf")
+    add("comment-of-includes", robot + "<!-- " + "<include " * (size // 9) + "\n</robot>\n")
+    add("long-suppression", robot.replace("<link name=\"base\"/>", "<link name=\"base\"/><!-- "
+        "urdftool: ignore " + " " * size + "x") + "</robot>\n", suffix=".urdf")
+    add("bom-xml-declarations", b"\xef\xbb\xbf" + b"<?xml " * (size // 6) + robot.encode()
+        + b"</robot>\n", suffix=".urdf")
+    add("macro-names", robot + "<!-- " + "<xacro:macro " * (size // 13) + "-->\n</robot>\n")
+    # the trusted interpreter's accounting: bytes, not items; clocks on every call
+    add("property-references", HEAD + '<xacro:property name="p" value="${\'x\' * 1000000}"/>\n'
+        + "".join(f'<link name="l{i}${{p}}"/>\n' for i in range(18)) + ARM + "</robot>\n")
+    add("count-terabyte", HEAD + '<xacro:property name="s" value="${\'x\' * 200000}"/>\n'
+        '<link name="${([s] * 1000000).count(s[:-1] + \'y\')}"/>\n' + ARM + "</robot>\n")
+    merges = ["m0: &m0 {" + ", ".join(f"k{i}: {i}" for i in range(50)) + "}"] + [
+        f"m{i}: &m{i} {{<<: [*m{i - 1}, *m0], x{i}: 1}}" for i in range(1, 400)]
+    add("yaml-merge-chain", HEAD + '<link name="${len(str(xacro.load_yaml(\'d.yaml\')))}"/>\n'
+        + ARM + "</robot>\n", data={"d.yaml": "\n".join(merges) + "\n"})
+    return package, cases
+
+
+def _launch_package(base: Path) -> Path:
+    """A package whose launch file has a long string literal, and whose configuration lists
+    one slow file 20 times with different arguments."""
+    package = base / "entries_pkg"
+    (package / "urdf").mkdir(parents=True)
+    (package / "launch").mkdir()
+    (package / "package.xml").write_text("<package><name>entries_pkg</name></package>")
+    (package / "launch" / "a.launch.py").write_text("X = '" + "a" * 200_000 + "'\n")
+    (package / "urdf" / "robot.urdf.xacro").write_text(
+        HEAD + '<xacro:arg name="k" default="0"/>\n<xacro:macro name="t" params="n">'
+        '<xacro:if value="${n > 0}"><xacro:t n="${n-1}"/><xacro:t n="${n-1}"/></xacro:if>'
+        '</xacro:macro><xacro:t n="40"/>\n' + ARM + "</robot>\n")
+    (package / "urdftool.toml").write_text("entries = [\n" + "".join(
+        f'  {{ file = "urdf/robot.urdf.xacro", args = {{ k = "{i}" }} }},\n'
+        for i in range(20)) + "]\n")
+    return package
+
+
+@pytest.fixture(scope="module")
+def plan_cases(tmp_path_factory):
+    base = tmp_path_factory.mktemp("budget")
+    package, cases = _cases(base)
+    return base, package, cases, _launch_package(base)
+
+
+def _plan(cases, entries: Path, ci: bool) -> list[dict]:
+    mode = [] if ci else ["--trusted"]
+    plan = []
+    for name, (path, commands) in cases.items():
+        for command in commands:
+            args = [command, *EXTRA.get(command, ()), *mode, "--timeout", str(TIMEOUT)]
+            if command == "check":
+                args.append("--no-cache")
+            plan.append({"name": f"{name}: {command}", "case": name, "command": command,
+                         "ci": ci, "cwd": str(path.parent), "args": [*args, str(path)],
+                         "input": path.stat().st_size})
+    plan.append({"name": "entries-20-times: check", "case": "entries", "command": "check",
+                 "ci": ci, "cwd": str(entries), "input": 1000,
+                 "args": ["check", *mode, "--timeout", str(TIMEOUT), "--no-cache", "."]})
+    return plan
+
+
+@pytest.mark.parametrize("ci", [True, False], ids=["ci-untrusted", "trusted"])
+def test_every_reading_command_holds(plan_cases, ci, tmp_path):
+    _, _, cases, entries = plan_cases
+    plan_file = tmp_path / "plan.json"
+    plan = _plan(cases, entries, ci)
+    plan_file.write_text(json.dumps(plan))
+    results = tmp_path / "results.json"
+    env = {**os.environ, "URDFTOOL_CACHE_DIR": str(tmp_path), "NO_COLOR": "1"}
+    env.pop("CI", None)
+    done = subprocess.run([sys.executable, str(ROOT / "tests" / "redteam_batch.py"),
+                           str(plan_file), str(results)], env=env, cwd=ROOT,
+                          capture_output=True, text=True, timeout=600, check=False)
+    assert done.returncode == 0, done.stderr[-3000:]
+    report = json.loads(results.read_text())
+    failures = []
+    for run in report["runs"]:
+        output = run["out"] + run["err"]
+        problems = []
+        if "Traceback" in output or "internal error" in output:
+            problems.append("traceback")
+        if run["seconds"] > 2 * TIMEOUT + STARTUP:
+            problems.append(f"took {run['seconds']:.1f} s")
+        if run["code"] not in (0, 1, 2):
+            problems.append(f"exit code {run['code']}")
+        if run["input"] < (1 << 20) and len(output.encode()) > REPORT_BYTES:
+            problems.append(f"report of {len(output.encode())} bytes")
+        if problems:
+            failures.append(f"{run['name']}: {', '.join(problems)}\n  {output[-300:]!r}")
+    assert not failures, "\n".join(failures)
+    assert report["peak_mb"] < MEGABYTES, report["peak_mb"]
+    by_name = {run["name"]: run for run in report["runs"]}
+    # the file listed 20 times: one expansion stopped at the deadline, 19 not checked, exit 1
+    entries_run = by_name["entries-20-times: check"]
+    assert entries_run["code"] == 1
+    assert entries_run["out"].count("not checked: the run's time budget is spent") == 19, \
+        entries_run["out"][-2000:]
+    # refused in bytes: the property referenced 18 times and the terabyte count
+    for name in ("property-references", "count-terabyte"):
+        run = by_name[f"{name}: check"]
+        assert run["code"] == 1 and "xacro.limit-exceeded" in run["out"], run["out"][-500:]
