@@ -142,10 +142,11 @@ def test_every_reading_command_holds(plan_cases, ci, tmp_path):
     assert not failures, "\n".join(failures)
     assert report["peak_mb"] < MEGABYTES, report["peak_mb"]
     by_name = {run["name"]: run for run in report["runs"]}
-    # the file listed 20 times: one expansion stopped at the deadline, 19 not checked, exit 1
+    # the file listed 20 times: one file's budget (--timeout for it and once for the run):
+    # at most two expansions stopped at the deadline, the others not checked, exit 1
     entries_run = by_name["entries-20-times: check"]
     assert entries_run["code"] == 1
-    assert entries_run["out"].count("not checked: the run's time budget is spent") == 19, \
+    assert 18 <= entries_run["out"].count("not checked: the run's time budget is spent") <= 19, \
         entries_run["out"][-2000:]
     # refused in bytes: the property referenced 18 times and the terabyte count
     for name in ("property-references", "count-terabyte"):

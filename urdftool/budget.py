@@ -35,14 +35,16 @@ class Spent(Exception):
 
 
 def start(timeout: float | None, files: int, started: float | None = None) -> None:
-    """A run of ``files`` files (at least one), ``timeout`` seconds each, from ``started``
-    (``time.monotonic()``; now if None). ``timeout`` None: no budget."""
+    """A run of ``files`` files (at least one), ``timeout`` seconds each and ``timeout`` more
+    for the run's own start (the sandboxed reader's start, configuration, planning: seconds on
+    a loaded machine), from ``started`` (``time.monotonic()``; now if None). ``timeout``
+    None: no budget."""
     global _deadline, _seconds, _files
     if timeout is None:
         stop()
         return
     _files = max(1, files)
-    _seconds = timeout * _files
+    _seconds = timeout * (_files + 1)
     _deadline = (started if started is not None else time.monotonic()) + _seconds
 
 
@@ -81,7 +83,7 @@ def describe() -> str:
     if _seconds is None:
         return "the time limit is spent"
     return (f"the run's time budget is spent ({_seconds:g} s: --timeout for each of the "
-            f"{_files} file(s) found)")
+            f"{_files} file(s) found, and once for the run)")
 
 
 @contextlib.contextmanager
