@@ -86,10 +86,24 @@ def describe() -> str:
             f"{_files} file(s) found, and once for the run)")
 
 
+def _interruptible(frame, inside: tuple[str, ...]) -> bool:
+    """Whether the code running (``frame``) may be interrupted: its file's path holds one of
+    ``inside`` (any code when empty), and no import is under way."""
+    name = frame.f_code.co_filename.replace("\\", "/") if frame is not None else ""
+    if inside and not any(part in name for part in inside):
+        return False
+    while frame is not None:
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return False
+        frame = frame.f_back
+    return True
+
+
 @contextlib.contextmanager
-def watchdog(seconds: float | None, make_exception):
+def watchdog(seconds: float | None, make_exception, inside: tuple[str, ...] = ()):
     """Run the block with ``make_exception()`` raised in it after ``seconds`` (then every
-    REPEAT seconds until it ends). Only in the main thread of a process with interval timers
+    REPEAT seconds until it ends), only while code whose file's path holds one of ``inside``
+    runs (a library's own loops, not the caller's bookkeeping). Only in the main thread of a process with interval timers
     (elsewhere the block runs unwatched: its own counting bounds it); a watchdog inside
     another keeps the outer one's timer."""
     import signal
@@ -103,8 +117,11 @@ def watchdog(seconds: float | None, make_exception):
     armed = [True]
 
     def interrupt(signum, frame):
-        if armed[0]:
-            raise make_exception()
+        # only inside the watched code, never in an import (a module left half-initialised
+        # breaks every later run of the process): the timer fires again REPEAT seconds later
+        if not armed[0] or not _interruptible(frame, inside):
+            return
+        raise make_exception()
 
     previous = signal.signal(signal.SIGALRM, interrupt)
     try:

@@ -127,6 +127,9 @@ BLANK_ATTR = "urdftool-blank"
 # seconds past the deadline after which the watchdog interrupts a trusted expansion (the
 # interpreter's own deadline stops it first when it is the one working)
 WATCHDOG_GRACE = 0.2
+# where it may interrupt: xacro's, PyYAML's and minidom's own code and the interpreter's, not
+# urdftool's patching of xacro (its restoring must run whole)
+WATCHED_CODE = ("/xacro/", "/yaml/", "/xml/dom/", "/urdftool/xacro_eval.py")
 
 
 def _mark_blank_only(doc) -> None:
@@ -599,7 +602,7 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
     # killed by its parent instead
     watched = timeout + WATCHDOG_GRACE if timeout and not sandbox.IN_CHILD else None
     try:
-        with budget.watchdog(watched, late):
+        with budget.watchdog(watched, late, WATCHED_CODE):
             # files only inside the run's roots (urdftool.loader), in every mode; variables
             # only the --allow-env ones
             result = _xacro_pass(source, path, options,
