@@ -13,7 +13,9 @@ from lsprotocol import types as lsp
 
 from urdftool.lsp.engine import resolved
 
-_IGNORE = re.compile(r"<!--\s*urdftool:\s*ignore\s+([^>]*?)\s*-->")
+# (linear: the ids and the spaces around them in one lazy group that cannot cross a '<' or
+# '>'; adjacent \s+ ... \s* quantifiers took cubic time on a long comment: issue 21)
+_IGNORE = re.compile(r"<!--\s*urdftool:\s*ignore(\s[^<>]*?)-->")
 
 
 def text_edits(server, lines: list[str], edits) -> list[lsp.TextEdit]:
@@ -85,11 +87,13 @@ def ignore_action(server, uri: str, diagnostic: lsp.Diagnostic, d) -> lsp.CodeAc
         return None
     above = _IGNORE.search(lines[index - 1]) if index > 0 else None
     if above is not None:
-        ids = above.group(1).split()
+        raw = above.group(1)
+        ids = raw.split()
         if d.rule in ids:
             return None
-        start = server.position(lines, index - 1, above.start(1))
-        end = server.position(lines, index - 1, above.end(1))
+        start = server.position(lines, index - 1,
+                                above.start(1) + len(raw) - len(raw.lstrip()))
+        end = server.position(lines, index - 1, above.end(1) - (len(raw) - len(raw.rstrip())))
         edit = lsp.TextEdit(lsp.Range(start, end), " ".join([*ids, d.rule]))
     else:
         indent = re.match(r"[ \t]*", lines[index]).group(0)

@@ -25,9 +25,11 @@ from lsprotocol import types as lsp
 from urdftool.lsp.engine import resolved
 
 _TAG = re.compile(r"<(/?)([\w:.-]+)")
-_ATTR = re.compile(r"""([\w:.-]+)\s*=\s*("([^"]*)"|'([^']*)')""")
-_DEFINITION = re.compile(r"<(?:xacro:)(macro|property|arg|include)\b([^>]*)>", re.DOTALL)
-_NAMED = re.compile(r"<(link|joint)\b([^>]*)>", re.DOTALL)
+# (linear on any text, issue 21: a name starts where a run of name characters starts; a
+# tag's text cannot run past the next '<')
+_ATTR = re.compile(r"""(?<![\w:.-])([\w:.-]+)\s*=\s*("([^"]*)"|'([^']*)')""")
+_DEFINITION = re.compile(r"<(?:xacro:)(macro|property|arg|include)\b([^<>]*)>")
+_NAMED = re.compile(r"<(link|joint)\b([^<>]*)>")
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 NAME_ATTRIBUTES = {("parent", "link"): "link", ("child", "link"): "link",
                    ("mimic", "joint"): "joint", ("gazebo", "reference"): "any",
@@ -107,6 +109,30 @@ def definitions(path: str, text: str) -> list[Definition]:
             found.append(Definition(match.group(1), attributes[key], path, line, column,
                                     column + len(attributes[key]), attributes))
     return found
+
+
+def _expressions(text: str):
+    """(start, end) of every ``${...}`` and ``$(arg ...)`` in ``text``, in order (``str.find``:
+    an unclosed one repeated is looked at once, issue 21)."""
+    position = 0
+    closed = {"}": True, ")": True}  # a closer not found once is not found later either
+    while True:
+        start = text.find("$", position)
+        if start < 0:
+            return
+        position = start + 1
+        if text.startswith("${", start):
+            closer, after = "}", start + 2
+        elif text.startswith("$(arg", start) and text[start + 5:start + 6].isspace():
+            closer, after = ")", start + 6
+        else:
+            continue
+        end = text.find(closer, after) if closed[closer] else -1
+        if end < 0:
+            closed[closer] = False
+            continue
+        yield start, end + 1
+        position = end + 1
 
 
 def _line_starts(text: str) -> list[int]:
@@ -452,7 +478,7 @@ def _included(view: View, tag: Tag) -> list[str]:
     """The files the check read that an include's filename names (``$(find pkg)/x`` or a
     relative path): matched by their trailing path, among the files read only."""
     spec = tag.attributes["filename"][0]
-    tail = re.sub(r"^\$\(find\s+[^)]+\)/?", "", spec)
+    tail = re.sub(r"^\$\(find\s[^)]+\)/?", "", spec)
     if "${" in tail or "$(" in tail:
         tail = Path(tail).name
     tail = tail.lstrip("./")
@@ -509,9 +535,9 @@ def references(view: View, position: lsp.Position) -> list[lsp.Location] | None:
     if name is not None:
         for key, text in view.texts.items():
             starts = _line_starts(text)
-            for expression in re.finditer(r"\$\{[^}]*\}|\$\(arg\s+[^)]*\)", text):
-                for match in re.finditer(rf"\b{re.escape(name)}\b", expression.group(0)):
-                    at = expression.start() + match.start()
+            for first, last in _expressions(text):
+                for match in re.finditer(rf"\b{re.escape(name)}\b", text[first:last]):
+                    at = first + match.start()
                     line = _line(starts, at)
                     add(view.location(key, line, at - starts[line],
                                       at - starts[line] + len(name)))
