@@ -588,7 +588,7 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
     """Expand ``path`` into ``source.root`` with locations in ``source.locs``; xacro errors
     become ``xacro.*`` problems at the line where they happened (in this process: the loader
     decides where, ``urdftool.loader``)."""
-    from urdftool import budget, sandbox
+    from urdftool import budget
     from urdftool.xacro_eval import Deadline
 
     timeout = budget.clamp(getattr(options, "timeout", None))  # at most what the run has left
@@ -597,10 +597,10 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
     def late() -> Deadline:
         return Deadline("xacro expansion took longer than the time limit")
 
-    # in this process (--trusted): a watchdog stops what the interpreter does not count
-    # (xacro's and PyYAML's own Python) shortly after the deadline; the sandboxed reader is
-    # killed by its parent instead
-    watched = timeout + WATCHDOG_GRACE if timeout and not sandbox.IN_CHILD else None
+    # a watchdog stops what the interpreter does not count (xacro's and PyYAML's own Python)
+    # shortly after the deadline: in this process (--trusted), and in the sandboxed reader
+    # (which its parent kills a second later otherwise)
+    watched = timeout + WATCHDOG_GRACE if timeout else None
     try:
         with budget.watchdog(watched, late, WATCHED_CODE):
             # files only inside the run's roots (urdftool.loader), in every mode; variables
