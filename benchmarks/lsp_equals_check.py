@@ -13,7 +13,9 @@ from urdftool.lsp.engine import Engine, Settings, resolved
 from urdftool.package import robot_files
 
 ROOT = Path(__file__).resolve().parent.parent
-src = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT.parent / "shared" / "realworld-dev" / "src"
+SHARED = next((p for p in (ROOT.parent / "shared", ROOT.parent.parent / "shared") if p.is_dir()),
+              ROOT.parent / "shared")
+src = Path(sys.argv[1]) if len(sys.argv) > 1 else SHARED / "realworld-dev" / "src"
 dirs = set()
 for repo in sorted(src.iterdir()):
     for f in robot_files(repo):

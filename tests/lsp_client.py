@@ -79,14 +79,14 @@ def published(client, under) -> set[tuple]:
     return found
 
 
-def check_report(*args: str, cwd=None) -> dict:
+def check_report(*args: str, cwd=None, parse: bool = True) -> dict | None:
     """``urdftool check --format json``'s report (a separate process: the CLI as a user runs
     it)."""
     done = subprocess.run([sys.executable, "-m", "urdftool", "check", "--format", "json", *args],
                           capture_output=True, text=True, cwd=cwd or ROOT,
                           env=_env(), check=False)
     assert done.returncode in (0, 1), done.stderr
-    return json.loads(done.stdout)
+    return json.loads(done.stdout) if parse else None
 
 
 def check_json(*args: str, cwd=None) -> set[tuple]:

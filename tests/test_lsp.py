@@ -412,3 +412,25 @@ async def test_hover_on_a_computed_property_gives_the_value_the_expansion_wrote(
     height = _property(REALSENSE / "urdf", "d435_cam_height")
     assert "`${d435_cam_height/2}`" in text
     assert float(re.search(r"= `([^`]+)`\s*$", text).group(1)) == pytest.approx(height / 2)
+
+
+async def test_a_configured_baseline_hides_what_it_records(client, tmp_path):
+    """`urdftool.toml`'s baseline applies in the editor as in `check`: recorded findings are
+    not shown, a new one is."""
+    package = _copy(tmp_path, ROBOTS / "m2wr" / "published")
+    (package / "package.xml").write_text("<package><name>m2wr</name></package>",
+                                         encoding="utf-8")
+    check_report("--trusted", "--write-baseline", str(package / "baseline.json"), str(package),
+                 parse=False)
+    (package / "urdftool.toml").write_text('baseline = "baseline.json"\n', encoding="utf-8")
+    robot = package / "m2wr.xacro"
+    text = robot.read_text(encoding="utf-8")
+    await open_file(client, robot)
+    assert published(client, package) == check_json("--trusted", str(package)) == set()
+    # a new mistake (a negative mass) is shown, the recorded ones stay hidden
+    broken = re.sub(r'<mass value="[^"]*"', '<mass value="-1"', text, count=1)
+    assert broken != text
+    await change(client, robot, broken)
+    robot.write_text(broken, encoding="utf-8")
+    found = published(client, package)
+    assert found == check_json("--trusted", str(package)) != set()

@@ -27,7 +27,7 @@ from urdftool.check import CheckOptions, check_model
 from urdftool.config import Config, load_config
 from urdftool.errors import ToolError
 from urdftool.loader import run_roots
-from urdftool.package import Target, classify, package_root, plan
+from urdftool.package import Target, classify, package_root, plan, seen_files
 from urdftool.report import Diagnostic, FileReport, Report, merge_repeats
 from urdftool.source import ROBOT_SUFFIXES, LoadOptions
 
@@ -352,8 +352,8 @@ class Engine:
             reports.append(copied)
         targets = [t for t, r in zip(unit.targets, unit.reports) if r is not None]
         shown, notes = classify(targets, reports)
-        shown = merge_repeats(shown)
-        report = Report(shown, notes)
+        report = Report(merge_repeats(shown), notes)
+        report.seen = seen_files(targets, shown, reports, None)  # as check_paths (baselines)
         if unit.config.baseline is not None:
             from urdftool.baseline import apply_baseline
 
