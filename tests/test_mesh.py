@@ -4,6 +4,8 @@ the closed-form box; the once-per-run mesh cache; PyBullet as a second opinion o
 from __future__ import annotations
 
 import json
+import shlex
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -216,7 +218,9 @@ def test_without_trimesh_the_skipped_checks_are_named(write, box_stl, monkeypatc
     assert (skipped.rule, skipped.severity) == ("mesh.not-checked", "warning")
     assert "trimesh is not installed: 1 mesh file(s) of 1 link(s)" in skipped.message
     assert "inertia.exceeds-geometry" in skipped.message and "on 'a'" in skipped.message
-    assert skipped.hint == "pip install 'urdftool[mesh]'"
+    assert skipped.hint.startswith("install urdftool's mesh extra: ")
+    assert skipped.hint.endswith(" -m pip install -e " + shlex.quote(
+        f"{Path(__file__).resolve().parents[1]}[mesh]"))
 
 
 def test_pybullet_agrees_on_primitive_inertia(write):

@@ -13,5 +13,56 @@ def require(module: str, extra: str):
         return importlib.import_module(module)
     except ImportError as exc:
         raise ToolError(
-            f"this command needs the '{module}' module: pip install 'urdftool[{extra}]' ({exc})"
+            f"this command needs the '{module}' module: {install_line(extra)} ({exc})"
         ) from None
+
+
+def install_line(extra: str) -> str:
+    """The command that adds the optional dependencies ``extra`` to THIS installation of
+    urdftool, into the Python running it: a source checkout is installed from its folder
+    (``pip install -e 'DIR[extra]'``), an installation from a folder, archive or repository
+    from where it came (PEP 610's direct_url.json), and only one from an index by name."""
+    import shlex
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    try:
+        project = (root / "pyproject.toml").read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        project = ""
+    checkout = root if 'name = "urdftool"' in project else None
+    direct = None
+    if checkout is None:
+        import json
+        from importlib import metadata
+
+        try:
+            direct = json.loads(metadata.distribution("urdftool").read_text("direct_url.json")
+                                or "null")
+        except (metadata.PackageNotFoundError, ValueError, OSError):
+            direct = None
+    return pip_line(f"{shlex.quote(sys.executable or 'python')} -m pip install", extra,
+                    checkout, direct)
+
+
+def pip_line(pip: str, extra: str, checkout, direct) -> str:
+    """``install_line`` from what it found: the source checkout's folder, or the
+    direct_url.json record (a dict, None when installed from an index)."""
+    import shlex
+    from urllib.parse import unquote, urlparse
+
+    if checkout is not None:
+        return f"{pip} -e {shlex.quote(f'{checkout}[{extra}]')}"
+    if not isinstance(direct, dict) or not isinstance(direct.get("url"), str):
+        return f"{pip} {shlex.quote(f'urdftool[{extra}]')}"  # from an index
+    url = direct["url"]
+    dir_info, vcs = direct.get("dir_info"), direct.get("vcs_info")
+    if isinstance(dir_info, dict) and url.startswith("file://"):
+        folder = unquote(urlparse(url).path)
+        editable = "-e " if dir_info.get("editable") is True else ""
+        return f"{pip} {editable}{shlex.quote(f'{folder}[{extra}]')}"
+    if isinstance(vcs, dict) and isinstance(vcs.get("vcs"), str):
+        revision = vcs.get("commit_id")
+        url = f"{vcs['vcs']}+{url}" + (f"@{revision}" if isinstance(revision, str) else "")
+    return f"{pip} {shlex.quote(f'urdftool[{extra}] @ {url}')}"

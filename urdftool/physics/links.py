@@ -35,6 +35,7 @@ DENSITY_LOW, DENSITY_HIGH = 10.0, 25000.0  # kg/m^3: lighter than foam, denser t
 COM_TOLERANCE = 0.25  # fraction of the body's width (along the way out) the COM may lie outside
 AXIS_NAMES = ("x", "y", "z")
 NO_TRIMESH = "trimesh is not installed"  # ShapeInfo.problem of a mesh that was not read
+NO_LIBRARY = "an optional library it needs is not installed"  # (meshes.missing_library)
 UNREAD_FORMAT = "a mesh format urdftool does not read"
 NEGLIGIBLE_EFFECT = 0.01  # relative change of a merged body's principal moments
 
@@ -207,7 +208,8 @@ def _mesh_shape(files: _MeshFiles, info: ShapeInfo, origin, need_volume: bool,
     mesh = meshes.load_mesh(resolved, need_volume=need_volume)
     info.mesh = mesh
     if not mesh.ok:
-        info.problem = f"cannot load {path.name}: {mesh.error}"
+        info.problem = NO_LIBRARY if meshes.missing_library(mesh) else \
+            f"cannot load {path.name}: {mesh.error}"
         return
     info.ambiguous = mesh.up_rotation is not None
     # placed once per process for each (summary, scale, origin); the summary is kept in the

@@ -40,6 +40,23 @@ TRANSIENT = "sandboxed reader: "  # an error of the reader, not of the file: nev
 TIMED_OUT = "took longer than"  # in a TRANSIENT error: stopped at --timeout, not known broken
 
 
+# in an error: a library trimesh needs for this file is not installed (pycollada for DAE,
+# scipy for the hull...): the mesh is not checked (mesh.not-checked), never unreadable, and
+# the summary is never stored (installing the library must not leave the stale answer)
+MISSING_LIBRARY = "needs the optional library "
+
+
+def missing_library(info) -> str | None:
+    """The import name of the library this mesh could not be read without, if that was why."""
+    error = info.error or ""
+    return error[len(MISSING_LIBRARY):] if error.startswith(MISSING_LIBRARY) else None
+
+
+def _missing(path: Path, exc: ImportError) -> MeshInfo:
+    name = (getattr(exc, "name", None) or "").split(".")[0] or _one_line(str(exc))
+    return MeshInfo(str(path), error=MISSING_LIBRARY + name)
+
+
 def timed_out(info) -> bool:
     """The reader was stopped at the time limit: the mesh is not checked, not unreadable."""
     error = info.error or ""
@@ -151,7 +168,7 @@ def _stored_or_load(path: Path, need_volume: bool) -> MeshInfo:
     if stored is not None and (stored.has_volume or not need_volume or not stored.ok):
         return stored
     info = _load(path, need_volume)
-    if not (info.error or "").startswith(TRANSIENT):
+    if not (info.error or "").startswith((TRANSIENT, MISSING_LIBRARY)):
         cache.write("mesh", key, *_encode(info))
     return info
 
@@ -240,6 +257,8 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 triangles = _read(path)
+        except ImportError as exc:  # an optional library is missing: not the file's fault
+            return _missing(path, exc)
         except Exception as exc:  # noqa: BLE001 - any parser failure is a finding, not a crash
             return MeshInfo(str(path), error=_one_line(f"{type(exc).__name__}: {exc}"))
         if triangles is None:
@@ -249,7 +268,10 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
                                              f"{MAX_TRIANGLES} urdftool reads")
         with warnings.catch_warnings(), np.errstate(all="ignore"):
             warnings.simplefilter("ignore")
-            return _summarise(path, *triangles, need_volume)
+            try:
+                return _summarise(path, *triangles, need_volume)
+            except ImportError as exc:  # scipy (the hull)
+                return _missing(path, exc)
 
 
 # larger meshes, and archives, are parsed in the sandboxed reader in every mode (go1's 28 MB
@@ -343,8 +365,14 @@ def _read(path: Path):
 
     import trimesh
 
-    mesh = trimesh.load(io.BytesIO(path.read_bytes()), file_type=path.suffix.lower().lstrip("."),
-                        force="mesh", process=False, skip_materials=True)
+    data = path.read_bytes()
+    file_type = path.suffix.lower().lstrip(".")
+    try:
+        mesh = trimesh.load(io.BytesIO(data), file_type=file_type, force="mesh", process=False,
+                            skip_materials=True)
+    except ImportError:  # joining a scene copies its textures, which needs Pillow
+        mesh = _geometry_only(trimesh.load(io.BytesIO(data), file_type=file_type,
+                                           force="scene", process=False, skip_materials=True))
     if _empty(mesh) and path.suffix.lower() == ".dae":
         mesh = _load_collada_geometry_only(path)
     return None if _empty(mesh) else (mesh.vertices, mesh.faces, mesh)
@@ -372,6 +400,34 @@ def _empty(mesh) -> bool:
     import trimesh
 
     return not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0
+
+
+def _geometry_only(scene):
+    """A scene's meshes placed by its graph and joined into one mesh, as trimesh's
+    ``Scene.to_mesh`` joins them, without copying their materials: copying a texture needs
+    Pillow, an optional library the checks do not need. Texture coordinates are kept, so
+    vertices are merged as trimesh merges them when it joins the scene itself."""
+    import numpy as np
+    import trimesh
+
+    vertices, faces, uvs, offset = [], [], [], 0
+    for node in scene.graph.nodes_geometry:
+        transform, name = scene.graph[node]
+        part = scene.geometry.get(name)
+        if not isinstance(part, trimesh.Trimesh) or len(part.faces) == 0:
+            continue
+        points = np.asarray(part.vertices, dtype=float)
+        vertices.append(points @ transform[:3, :3].T + transform[:3, 3])
+        faces.append(np.asarray(part.faces) + offset)
+        uv = getattr(part.visual, "uv", None) if part.visual.kind == "texture" else None
+        uvs.append(None if uv is None or len(uv) != len(points) else np.asarray(uv))
+        offset += len(points)
+    if not faces:
+        return None
+    visual = None
+    if all(uv is not None for uv in uvs):
+        visual = trimesh.visual.TextureVisuals(uv=np.vstack(uvs))
+    return trimesh.Trimesh(np.vstack(vertices), np.vstack(faces), visual=visual, process=False)
 
 
 def _load_collada_geometry_only(path: Path):

@@ -155,7 +155,8 @@ does not read (Ogre `.mesh`, for instance) are not checked.""",
 def unreadable(robot):
     for a, info in _mesh_shapes(robot):
         mesh = info.mesh
-        if mesh is not None and mesh.error is not None and not _timed_out(mesh):
+        if mesh is not None and mesh.error is not None and not _timed_out(mesh) \
+                and info.problem != analysis.NO_LIBRARY:
             yield Finding(f"{_what(a, info)} mesh {info.path.name} cannot be read: "
                           f"{mesh.error}", _loc(info))
 
@@ -167,6 +168,8 @@ def _timed_out(mesh) -> bool:
 
 
 _MESH_RULES = "mesh.unreadable, mesh.scale and mesh.not-watertight"
+# import name -> the distribution pip installs it from (the mesh extra)
+_DISTRIBUTIONS = {"collada": "pycollada", "PIL": "Pillow"}
 _GEOMETRY_RULES = ("inertia.exceeds-geometry, permuted-axes, unit-scale, com-outside-geometry, "
                    "geometry-mismatch and implausible-density")
 
@@ -177,10 +180,15 @@ def _names(names: list[str], most: int = 6) -> str:
 
 
 @rule("mesh.not-checked", "warning",
-      "meshes were not read (trimesh missing, a format urdftool does not read): checks skipped",
+      "meshes were not read (trimesh or a library it needs missing, a format urdftool does not "
+      "read): checks skipped",
       doc="""Nothing is skipped in silence. The mesh checks (`mesh.unreadable`, `mesh.scale`,
 `mesh.not-watertight`) and the inertia checks against a link's geometry need the meshes read,
-with trimesh (`pip install 'urdftool[mesh]'`). Without it, `check` still runs every other rule
+with trimesh and the libraries of the `mesh` extra (pycollada for COLLADA, scipy, Pillow).
+The hint gives the command that installs the extra into this installation (a source checkout:
+`pip install -e 'DIR[mesh]'`; an installation from a folder, archive or repository: from there;
+from an index: `pip install 'urdftool[mesh]'`). A mesh that cannot be read for want of one of
+them is reported here, never as `mesh.unreadable`. Without them, `check` still runs every other rule
 and says here, once per robot, which meshes and links were not checked: a warning, so that
 `--strict` fails a CI job whose environment lacks it (the other commands that need trimesh stop
 with exit code 2). A mesh in a format urdftool does not read (Ogre `.mesh`, VRML...) is advice:
@@ -195,7 +203,7 @@ def not_checked(robot):
     skipped: dict[str, list] = {}
     slow = []
     for a, info in _mesh_shapes(robot):
-        if info.problem in (analysis.NO_TRIMESH, analysis.UNREAD_FORMAT):
+        if info.problem in (analysis.NO_TRIMESH, analysis.NO_LIBRARY, analysis.UNREAD_FORMAT):
             skipped.setdefault(info.problem, []).append((a, info))
         elif info.mesh is not None and _timed_out(info.mesh):
             slow.append((a, info))
@@ -210,11 +218,19 @@ def not_checked(robot):
         links = list(dict.fromkeys(str(a.link.name) for a, _ in shapes))
         files = list(dict.fromkeys(info.path.name for _, info in shapes))
         first = _loc(shapes[0][1])
-        if problem == analysis.NO_TRIMESH:
-            yield Finding(f"trimesh is not installed: {len(files)} mesh file(s) of "
-                          f"{len(links)} link(s) were not read, so {_MESH_RULES} did not check "
-                          f"them and {_GEOMETRY_RULES} did not run on {_names(links)}", first,
-                          hint="pip install 'urdftool[mesh]'")
+        if problem in (analysis.NO_TRIMESH, analysis.NO_LIBRARY):
+            from urdftool.errors import install_line
+            from urdftool.physics.meshes import missing_library
+
+            missing = ["trimesh"] if problem == analysis.NO_TRIMESH else list(dict.fromkeys(
+                _DISTRIBUTIONS.get(name, name) for name in
+                (missing_library(info.mesh) for _, info in shapes)))
+            yield Finding(f"{' and '.join(missing)} {'is' if len(missing) == 1 else 'are'} not "
+                          f"installed: {len(files)} mesh file(s) of {len(links)} link(s) were "
+                          f"not read (the files are not known to be broken), so {_MESH_RULES} "
+                          f"did not check them and {_GEOMETRY_RULES} did not run on "
+                          f"{_names(links)}", first,
+                          hint=f"install urdftool's mesh extra: {install_line('mesh')}")
         else:
             suffixes = sorted({info.path.suffix or info.path.name for _, info in shapes})
             yield Finding(f"{len(files)} mesh file(s) in a format urdftool does not read "
