@@ -66,10 +66,25 @@ def test_missing_link_points_at_the_parent_element_with_did_you_mean(write):
                        joint("j", "base_lnk", "arm")))
     [d] = fired(path, "structure.missing-link")
     assert d.line == 6 and "did you mean 'base_link'" in d.message
-    # The cut-off link is reported as such, with the reason.
-    orphans = fired(path, "structure.orphan-link")
-    assert [o.line for o in orphans] == [4]
-    assert "undefined link 'base_lnk'" in orphans[0].message
+    # one finding per cause: the link cut off by the typo is counted there, not an orphan too
+    assert fired(path, "structure.orphan-link") == []
+    assert "the 1 link(s) below it ('arm') are cut off" in d.message
+
+
+def test_one_typo_above_a_chain_is_one_finding(write):
+    """issue 22.3: one typo'd <parent link> above six links gave 1 missing-link + 6 orphans."""
+    chain = ["base", "torso", "a1", "a2", "a3", "a4", "hand"]
+    joints = [joint("mount", "bas", "torso")] + [
+        joint(f"j{i}", parent, child) for i, (parent, child) in enumerate(zip(chain[1:], chain[2:]))]
+    path = write(robot(*(f'  <link name="{n}"/>' for n in chain), *joints))
+    found = [(d.rule, d.line) for d in structure(path)]
+    assert found == [("structure.missing-link", 11)]
+    [d] = structure(path)
+    assert "the 6 link(s) below it ('a1', 'a2', 'a3' and 3 more)" in d.message
+    # a link cut off for another reason is still an orphan
+    lone = write(robot(*(f'  <link name="{n}"/>' for n in chain), *joints,
+                       '  <link name="spare"/>'), "lone.urdf")
+    assert [d.rule for d in structure(lone)] == ["structure.missing-link", "structure.orphan-link"]
 
 
 def test_self_joint(write):

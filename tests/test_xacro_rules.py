@@ -156,3 +156,30 @@ def test_smartcar_corrected_is_clean():
     main = _smartcar("corrected")
     assert found(main) == []
     assert found(main.parent / "urdf" / "smartcar_body.urdf.xacro") == []
+
+
+def test_a_missing_package_is_one_finding_with_a_count(tmp_path):
+    """issue 22.3: a dependency package no check finds stopped each of the package's entries:
+    one finding per entry, all the same. It is one, at the first, counting the others."""
+    import json
+
+    from tests.conftest import run_urdftool
+
+    (tmp_path / "package.xml").write_text(
+        '<package format="3"><name>my_desc</name><version>0.0.1</version><description>d'
+        '</description><maintainer email="a@b.c">a</maintainer><license>BSD</license></package>')
+    (tmp_path / "urdf").mkdir()
+    for name in ("a", "b", "c", "d", "e"):
+        (tmp_path / "urdf" / f"robot_{name}.urdf.xacro").write_text(
+            f'<robot name="{name}" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+            '  <xacro:include filename="$(find dep_pkg)/urdf/common.xacro"/>\n'
+            '  <link name="base"/>\n</robot>\n')
+    result = run_urdftool("check", "--format", "json", tmp_path)
+    found = [(f["path"], d["line"], d["message"]) for f in json.loads(result.out)["files"]
+             for d in f["diagnostics"]]
+    assert result.code == 1 and len(found) == 1, found
+    path, line, message = found[0]
+    assert (Path(path).name, line) == ("robot_a.urdf.xacro", 2)
+    assert message.startswith("xacro: $(find dep_pkg): package 'dep_pkg' not found; "
+                              "4 other expansion(s) stop on it too: ")
+    assert "robot_b.urdf.xacro:2" in message and message.endswith(" and 1 more")

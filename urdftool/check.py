@@ -372,12 +372,47 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
             if given is not None:
                 store_reads(files[i], options.load, report)
         shown, notes = classify(files, reports, given)
-        report = Report(merge_repeats(shown), notes)
+        report = Report(_one_per_missing_package(merge_repeats(shown)), notes)
         report.seen = seen_files(files, shown, reports, given)
         return report
     finally:
         gc.set_threshold(*thresholds)
         budget.stop()
+
+
+def _one_per_missing_package(files: list[FileReport]) -> list[FileReport]:
+    """One finding per cause (issue 22.3): a package no check of the run finds stops every
+    expansion that needs it; it is said once, at its first place, with how many other places
+    (files) met it, not once per file."""
+    import re
+
+    pattern = re.compile(r"xacro: \$\(find (\S+)\): package '\1' not found$")
+    first: dict[str, tuple[FileReport, int]] = {}
+    others: dict[str, list[str]] = {}
+    for report in files:
+        kept = []
+        for d in report.diagnostics:
+            match = pattern.match(d.message) if d.rule == "xacro.error" else None
+            if match is None:
+                kept.append(d)
+                continue
+            name = match.group(1)
+            if name in first:
+                others[name].append(f"{d.path}:{d.line}" if d.line else d.path)
+                continue
+            first[name] = (report, len(kept))
+            others[name] = []
+            kept.append(d)
+        report.diagnostics = kept
+    for name, places in others.items():
+        if places:
+            report, index = first[name]
+            d = report.diagnostics[index]
+            shown = ", ".join(places[:3]) + (f" and {len(places) - 3} more" if len(places) > 3
+                                             else "")
+            report.diagnostics[index] = d._replace(
+                message=f"{d.message}; {len(places)} other expansion(s) stop on it too: {shown}")
+    return files
 
 
 PROBE = 0.5  # seconds of checking in this process before deciding on workers

@@ -185,10 +185,19 @@ def missing_link(robot) -> Iterator[Finding]:
                         new not in _below(robot, joint.child) if end == "parent"
                         else new != joint.parent and all(j.child != new for j in robot.joints)):
                     edits, note = value_edits(robot, loc, (end,), {"link": new})
+            if end == "parent" and joint.child in known:
+                below = sorted(_below(robot, joint.child) & known)
+                message += (f"; the {len(below)} link(s) below it ({_names(below)}) are cut "
+                            "off from the root by this")
             yield Finding(message, loc,
                           hint=(f'write <{end} link="{match[0]}"/>' + note) if match
                           else f'define <link name="{name}"/> or name an existing link',
                           edits=edits)
+
+
+def _names(names: list[str], most: int = 3) -> str:
+    shown = ", ".join(f"'{n}'" for n in names[:most])
+    return shown + (f" and {len(names) - most} more" if len(names) > most else "")
 
 
 def _below(robot, link: str | None) -> set:
@@ -476,21 +485,23 @@ def orphan_link(robot) -> Iterator[Finding]:
             continue
         seen.add(name)
         reason = _cut_off_reason(robot, name, known, on_loop)
+        if reason is None:
+            continue  # one finding per cause: missing-link or loop names it and counts this
         yield Finding(f"link '{name}' is not reachable from the root '{main}': {reason}",
                       link.loc, hint="fix the joint chain above it")
 
 
-def _cut_off_reason(robot, name: str, known: set[str], on_loop: set[str]) -> str:
-    """Why a link with a parent joint is still cut off from the root."""
+def _cut_off_reason(robot, name: str, known: set[str], on_loop: set[str]) -> str | None:
+    """Why a link with a parent joint is still cut off from the root; None when it hangs below
+    an undefined link or a loop (``structure.missing-link`` or ``structure.loop`` reports that
+    cause, with the links it cuts off)."""
     node, visited = name, {name}
     while True:
         joint = robot.parent_joint(node)
         if joint is None or joint.parent is None:
             return "its chain of parent joints does not reach the root"
-        if joint.parent not in known:
-            return f"joint '{joint.name}' above it hangs from the undefined link '{joint.parent}'"
-        if joint.parent in on_loop:
-            return f"it hangs below the kinematic loop through '{joint.parent}'"
+        if joint.parent not in known or joint.parent in on_loop:
+            return None
         if joint.parent in visited:
             return "its chain of parent joints runs in a circle"
         visited.add(joint.parent)
