@@ -186,3 +186,36 @@ def test_sdf_ball_joint_is_reported_once(tmp_path):
              if d.severity != "info"]
     assert "sdf.unsupported-joint" in rules
     assert "inertia.massless-moving-link" not in rules, rules
+
+
+# -- issue 22.4: what urdftool's own look-through makes read was read by no consumer -----------
+
+LOOK = """<robot name="r">
+  <link name="base"/>
+  <link name="arm"/>
+  <joint name="j" type="revolute">
+    <parent link="base"/>
+    <child link="arm"/>
+    <axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/>
+    {element}
+  </joint>
+</robot>
+"""
+
+
+def test_look_through_on_text_no_consumer_reads_is_never_an_error(write):
+    """<joint_properties> is not URDF: every parser ignores it, and with it its unparsable
+    friction. urdftool's safe fix renames it <dynamics>; looking through that fix finds the bad
+    number, which would matter only once the fix is applied."""
+    path = write(LOOK.format(element='<joint_properties damping="0.0" friction="{x}"/>'))
+    report = check_file(path, CheckOptions(select=["schema"]))
+    found = {d.rule: d for d in report.diagnostics}
+    assert found["schema.unknown-element"].fix is not None  # the rename urdftool looks through
+    bad = found["schema.bad-number"]
+    assert (bad.severity, bad.line) == ("warning", 9)
+    assert "as written, <joint_properties> is read by no consumer" in bad.message
+    # written where consumers read it, the same number is an error
+    path = write(LOOK.format(element='<dynamics damping="0.0" friction="{x}"/>'), "read.urdf")
+    [bad] = check_file(path, CheckOptions(select=["schema"])).diagnostics
+    assert (bad.rule, bad.severity, bad.line) == ("schema.bad-number", "error", 9)

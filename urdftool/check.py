@@ -165,6 +165,7 @@ def _look_through(path, options: CheckOptions, load_options: LoadOptions, source
     from urdftool.edits import apply, map_diagnostic
 
     originals = dict(source.texts)
+    written = source  # the files as written, for what their consumers read
     stopped = source.kind == "xacro" and source.root is None and any(
         rule == "xacro.error" and "is not defined" in f.message for rule, f in source.problems)
     if not stopped and not any(_safe(d) and not d.rule.startswith("xml.") for d in diagnostics):
@@ -207,6 +208,7 @@ def _look_through(path, options: CheckOptions, load_options: LoadOptions, source
             originals.setdefault(name, text)
     note = FOUND_PAST if stopped else FOUND_THROUGH
     keys = {(d.rule, d.path, d.line, d.message) for d in fixed}
+    unread = _unread_spans(written, fixed)
     result = list(fixed)
     for d in [*kept, *current]:
         d = map_diagnostic(d, history) if d not in kept else d
@@ -214,8 +216,50 @@ def _look_through(path, options: CheckOptions, load_options: LoadOptions, source
         if key in keys or (stopped and "unexpanded xacro expression" in d.message):
             continue
         keys.add(key)
-        result.append(d if key in seen else d._replace(message=d.message + note))
+        if key not in seen:
+            d = d._replace(message=d.message + note)
+            tag = _inside(d, unread)
+            if tag is not None and d.severity == "error":
+                d = d._replace(severity="warning", message=d.message + UNREAD_NOTE.format(tag))
+        result.append(d)
     return originals, robot, result
+
+
+# fixed findings that say their element, as written, is read by no consumer: what the fix
+# makes read was never read before it
+UNREAD_AS_WRITTEN = ("schema.unknown-element", "schema.misplaced-element",
+                     "schema.unknown-attribute")
+UNREAD_NOTE = ("; as written, <{}> is read by no consumer, so this is a warning (an error "
+               "once the fix is applied: correct both together)")
+
+
+def _unread_spans(source, fixed: list[Diagnostic]) -> list[tuple[str, int, int, str]]:
+    """(path, first line, last line, tag) of the elements as written that safe fixes make read
+    (a renamed unknown element, a moved misplaced one, an element with a renamed attribute)."""
+    spans = []
+    root = source.root
+    for d in fixed:
+        if d.rule not in UNREAD_AS_WRITTEN or not d.element or d.line is None or root is None:
+            continue
+        try:
+            found = root.getroottree().xpath(d.element)
+        except Exception:  # noqa: BLE001 - a path this document cannot answer: no span
+            continue
+        for element in found if isinstance(found, list) else ():
+            if not isinstance(getattr(element, "tag", None), str):
+                continue
+            lines = [loc.line for loc in map(source.loc, element.iter())
+                     if loc.line is not None and loc.path == d.path]
+            spans.append((d.path, min([d.line, *lines]), max([d.line, *lines]), element.tag))
+    return spans
+
+
+def _inside(d: Diagnostic, spans) -> str | None:
+    """The tag of the span ``d`` lies in, if any."""
+    for path, first, last, tag in spans:
+        if d.path == path and d.line is not None and first <= d.line <= last:
+            return tag
+    return None
 
 
 def check_file(path: Path | str, options: CheckOptions | None = None,
