@@ -3,6 +3,8 @@ line that is wrong, and quiet on a well-formed tree."""
 
 from __future__ import annotations
 
+import itertools
+
 from urdftool.check import CheckOptions, check_file
 
 
@@ -75,7 +77,8 @@ def test_one_typo_above_a_chain_is_one_finding(write):
     """issue 22.3: one typo'd <parent link> above six links gave 1 missing-link + 6 orphans."""
     chain = ["base", "torso", "a1", "a2", "a3", "a4", "hand"]
     joints = [joint("mount", "bas", "torso")] + [
-        joint(f"j{i}", parent, child) for i, (parent, child) in enumerate(zip(chain[1:], chain[2:]))]
+        joint(f"j{i}", parent, child)
+        for i, (parent, child) in enumerate(itertools.pairwise(chain[1:]))]
     path = write(robot(*(f'  <link name="{n}"/>' for n in chain), *joints))
     found = [(d.rule, d.line) for d in structure(path)]
     assert found == [("structure.missing-link", 11)]
