@@ -161,3 +161,69 @@ def test_frame_parameters_name_tf_frames_not_links(write):
     diagnostics = found(write, text)
     assert [(d.rule, d.line) for d in diagnostics] == [("gazebo.plugin-unknown-link", 19)]
     assert "'/base'" in diagnostics[0].message  # GetLink("/base") finds no link
+
+
+# -- issue 22.3: an include that cannot be read is one finding, not one per name in it ----------
+
+ROVER = """<?xml version="1.0"?>
+<sdf version="1.6">
+  <model name="rover">
+    <link name="chassis">
+      <inertial><mass>10</mass><inertia><ixx>0.5</ixx><ixy>0</ixy><ixz>0</ixz><iyy>0.5</iyy>
+        <iyz>0</iyz><izz>0.5</izz></inertia></inertial>
+    </link>
+    <include><uri>model://rover_wheel</uri><name>left_wheel</name></include>
+    <include><uri>model://rover_wheel</uri><name>right_wheel</name></include>
+    <joint name="left_wheel_hinge" type="revolute">
+      <parent>chassis</parent><child>left_wheel::wheel</child><axis><xyz>0 1 0</xyz></axis>
+    </joint>
+    <joint name="right_wheel_hinge" type="revolute">
+      <parent>chassis</parent><child>right_wheel::wheel</child><axis><xyz>0 1 0</xyz></axis>
+    </joint>
+    <plugin name="diff_drive" filename="libgazebo_ros_diff_drive.so">
+      <left_joint>left_wheel_hinge</left_joint><right_joint>right_wheel_hinge</right_joint>
+    </plugin>
+    <plugin name="p3d" filename="libgazebo_ros_p3d.so"><body_name>left_wheel::wheel</body_name>
+    </plugin>
+    <plugin name="jsp" filename="libgazebo_ros_joint_state_publisher.so">
+      <joint_name>left_wheel::wheel_joint</joint_name><joint_name>{typo}</joint_name>
+    </plugin>
+  </model>
+</sdf>
+"""
+WHEEL = """<?xml version="1.0"?>
+<sdf version="1.6"><model name="rover_wheel">
+  <link name="wheel"><inertial><mass>1</mass><inertia><ixx>0.01</ixx><ixy>0</ixy><ixz>0</ixz>
+    <iyy>0.01</iyy><iyz>0</iyz><izz>0.01</izz></inertia></inertial></link>
+  <joint name="wheel_joint" type="fixed"><parent>wheel</parent><child>tyre</child></joint>
+  <link name="tyre"><inertial><mass>0.1</mass><inertia><ixx>0.001</ixx><ixy>0</ixy><ixz>0</ixz>
+    <iyy>0.001</iyy><iyz>0</iyz><izz>0.001</izz></inertia></inertial></link>
+</model></sdf>
+"""
+
+
+def test_unresolved_sdf_include_is_the_one_finding(tmp_path):
+    """The wheel model is not on the model path: its include is the one cause. The joints that
+    name its link, and the plugins that name those joints or its link, are not findings of
+    their own (there were 2 sdf.missing-frame, 3 plugin-unknown-joint, 1 plugin-unknown-link
+    and a second sdf.include); a name that the include would not define still is."""
+    path = tmp_path / "rover.sdf"
+    path.write_text(ROVER.format(typo="chasis_joint"))
+    report = check_file(path, CheckOptions())
+    errors = [(d.rule, d.line) for d in report.diagnostics if d.severity == "error"]
+    assert errors == [("sdf.include", 8), ("gazebo.plugin-unknown-joint", 21)], errors
+    include = next(d for d in report.diagnostics if d.rule == "sdf.include")
+    assert "model 'left_wheel' is left out" in include.message
+    assert "1 more include(s) of it (model(s) 'right_wheel')" in include.message
+    # with the model found, the same names are checked, and all of them resolve
+    (tmp_path / "models" / "rover_wheel").mkdir(parents=True)
+    (tmp_path / "models" / "rover_wheel" / "model.sdf").write_text(WHEEL)
+    (tmp_path / "models" / "rover_wheel" / "model.config").write_text(
+        '<model><name>rover_wheel</name><sdf version="1.6">model.sdf</sdf></model>')
+    path.write_text(ROVER.format(typo="left_wheel_hinge"))
+    from urdftool.source import LoadOptions
+
+    options = CheckOptions()
+    options.load = LoadOptions(sdf_model_paths=[str(tmp_path / "models")])
+    report = check_file(path, options)
+    assert [d.rule for d in report.diagnostics if d.severity == "error"] == []

@@ -183,3 +183,33 @@ def test_a_missing_package_is_one_finding_with_a_count(tmp_path):
     assert message.startswith("xacro: $(find dep_pkg): package 'dep_pkg' not found; "
                               "4 other expansion(s) stop on it too: ")
     assert "robot_b.urdf.xacro:2" in message and message.endswith(" and 1 more")
+
+
+def test_a_missing_include_holds_back_what_it_may_define(tmp_path):
+    """issue 22.3: an include that cannot be read is the one cause of the undefined property,
+    link and joint after it (they were 3 more findings); with the include found, the names
+    are checked again and a real mistake among them is reported."""
+    text = ('<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+            '  <xacro:include filename="common.xacro"/>\n'
+            '  <link name="base"><inertial><mass value="${base_mass}"/>'
+            '<inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>\n'
+            '  <joint name="k" type="fixed"><parent link="base"/><child link="tool"/></joint>\n'
+            '  <gazebo reference="tool"><mu1>1</mu1></gazebo>\n'
+            '  <transmission name="t"><type>transmission_interface/SimpleTransmission</type>'
+            '<joint name="{joint}"><hardwareInterface>hardware_interface/EffortJointInterface'
+            '</hardwareInterface></joint><actuator name="m"><mechanicalReduction>1'
+            '</mechanicalReduction></actuator></transmission>\n</robot>\n')
+    path = tmp_path / "robot.urdf.xacro"
+    path.write_text(text.replace("{joint}", "tool_joint"))
+    report = check_file(path, CheckOptions())
+    errors = [(d.rule, d.line) for d in report.diagnostics if d.severity in ("error", "warning")]
+    assert errors == [("xacro.error", 2)], errors
+    assert "what it may define is not checked until it is read" in report.diagnostics[0].message
+    (tmp_path / "common.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:property name="base_mass" value="2"/>\n'
+        '  <link name="tool"><inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" '
+        'iyy="0.1" iyz="0" izz="0.1"/></inertial></link>\n</robot>\n')
+    report = check_file(path, CheckOptions())
+    errors = [(d.rule, d.line) for d in report.diagnostics if d.severity == "error"]
+    assert errors == [("transmission.unknown-joint", 6)], errors  # no joint 'tool_joint': k

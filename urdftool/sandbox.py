@@ -436,7 +436,7 @@ def source_to_json(source) -> dict:
     files.READ.clear()
     return {"kind": source.kind, "root": text, "locs": locs, "texts": source.texts,
             "unread": source.unread, "reads": sorted(source.reads),
-            "files_read": files_read,
+            "files_read": files_read, "lost": list(source.lost),
             "problems": [[rule, f.message, _loc_json(f.loc), f.hint, f.severity,
                           [list(e) for e in f.edits]] for rule, f in source.problems]}
 
@@ -487,6 +487,7 @@ def source_from_json(data, path: str):
 
         for read in data.get("files_read", ()):
             files.note(text(read, False))
+        source.lost = tuple(text(n, False) for n in data.get("lost", ()))
         for rule, message, where, hint, severity, edits in data["problems"]:
             source.add(text(rule, False), Finding(text(message, False), loc(where), text(hint),
                                                   text(severity), tuple(map(edit, edits))))

@@ -72,8 +72,8 @@ class LoadOptions:
 class Source:
     """One input file, read and (for xacro) expanded."""
 
-    __slots__ = ("_xpaths", "kind", "lines", "locs", "path", "problems", "reads", "resolver",
-                 "root", "texts", "unread")
+    __slots__ = ("_xpaths", "kind", "lines", "locs", "lost", "path", "problems", "reads",
+                 "resolver", "root", "texts", "unread")
 
     def __init__(self, path: str, kind: str, root: etree._Element | None = None,
                  problems: list[tuple[str, Finding]] | None = None,
@@ -88,6 +88,10 @@ class Source:
         # files an <include> names that were not read (unprefixed, hence never processed):
         # shown path -> text (``find_unread``)
         self.unread: dict[str, str] = {}
+        # SDF: the names (``a::b`` keys) an include that could not be read would define, and
+        # the joints left out with it: findings that name them only repeat the include's
+        # (``urdftool.rules.lost``)
+        self.lost: tuple[str, ...] = ()
         self.resolver = resolver
         self.locs = locs if locs is not None else {}  # element -> Loc (xacro, SDF)
         self.lines: str | None = None  # plain URDF: its text (positions from the parser)

@@ -146,6 +146,29 @@ def child_loc(robot: Robot, loc, tag: str):
     return robot.loc(found[0]) if found else None
 
 
+# the end of a xacro.error for an include that could not be read (urdftool.xacro_expand)
+INCLUDE_SKIPPED = "skipped, the rest is expanded without it"
+
+
+def include_failed(robot: Robot) -> bool:
+    """Whether an <xacro:include> of this robot could not be read (the rest was expanded)."""
+    return any(rule == "xacro.error" and finding.message.endswith(INCLUDE_SKIPPED)
+               for rule, finding in robot.source.problems)
+
+
+def lost(robot: Robot, name: str | None) -> bool:
+    """One finding per cause (issue 22.3): whether an undefined ``name`` (of a link, joint,
+    frame or model) may be what an include that could not be read defines. In SDF the include
+    names its model, so exactly the names in it (and the joints left out with it) are; in xacro
+    an include's content is unknown until it is read, so any undefined name may be. That
+    include's finding is the one finding: the others are held back until it is read."""
+    if name is None:
+        return False
+    if any(name == key or name.startswith(key + "::") for key in robot.source.lost):
+        return True
+    return robot.source.kind == "xacro" and include_failed(robot)
+
+
 _loaded = False
 
 

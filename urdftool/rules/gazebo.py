@@ -12,7 +12,7 @@ import math
 
 from urdftool.findings import Finding
 from urdftool.model import Robot
-from urdftool.rules import rename_edits, rule
+from urdftool.rules import lost, rename_edits, rule
 
 # plugin parameters whose text names joints (comma-separated lists allowed, e.g. jointName)
 JOINT_PARAMS = frozenset({
@@ -68,6 +68,12 @@ def plugin_references(robot: Robot) -> list[tuple[str, str, object]]:
     return found
 
 
+def _named(robot: Robot, name: str) -> str:
+    """The URDF name of what a plugin parameter names: in an SDF model, ``a::b`` (a link or
+    joint of the nested model ``a``) is the converted robot's ``a__b``."""
+    return name.replace("::", "__") if robot.source.kind == "sdf" else name
+
+
 def _suggest(name: str, candidates: list[str]) -> str | None:
     key = (name, tuple(candidates))  # memoised: variants of a robot repeat the same misses
     if key not in _SUGGESTED:
@@ -101,7 +107,8 @@ def unknown_reference(robot: Robot):
         reference = block.get("reference")
         if reference is None:
             continue
-        if robot.link(reference) is not None or robot.joint(reference) is not None:
+        if robot.link(reference) is not None or robot.joint(reference) is not None \
+                or lost(robot, reference):
             continue
         edits, close, note = rename_edits(robot, robot.loc(block), "gazebo", "reference",
                                           reference, links + joints)
@@ -123,7 +130,7 @@ def unknown_reference(robot: Robot):
 def plugin_unknown_joint(robot: Robot):
     joints = [joint.name for joint in robot.joints if joint.name]
     for kind, name, node in plugin_references(robot):
-        if kind != "joint" or robot.joint(name) is not None:
+        if kind != "joint" or robot.joint(_named(robot, name)) is not None or lost(robot, name):
             continue
         tag = _local(node.tag)
         if robot.link(name) is not None:
@@ -152,7 +159,7 @@ def plugin_unknown_joint(robot: Robot):
 def plugin_unknown_link(robot: Robot):
     links = [link.name for link in robot.links if link.name]
     for kind, name, node in plugin_references(robot):
-        if kind != "link" or robot.link(name) is not None:
+        if kind != "link" or robot.link(_named(robot, name)) is not None or lost(robot, name):
             continue
         tag = _local(node.tag)
         joint = robot.joint(name)

@@ -14,7 +14,7 @@ import functools
 from collections.abc import Iterator
 
 from urdftool.findings import Finding
-from urdftool.rules import did_you_mean, rule, value_edits
+from urdftool.rules import did_you_mean, lost, rule, value_edits
 
 
 def _urdf_only(check):
@@ -168,7 +168,7 @@ def missing_link(robot) -> Iterator[Finding]:
     known = set(names)
     for joint, element in _joint_elements(robot):
         for end, name in (("parent", joint.parent), ("child", joint.child)):
-            if name is None or name in known:
+            if name is None or name in known or lost(robot, name):
                 continue
             import difflib  # only on this error path: keeps start-up lean
 

@@ -13,7 +13,7 @@ import math
 
 from urdftool.findings import Finding
 from urdftool.model import Robot
-from urdftool.rules import rename_edits, rule
+from urdftool.rules import lost, rename_edits, rule
 
 ROS1_INTERFACES = (
     "EffortJointInterface", "PositionJointInterface", "VelocityJointInterface",
@@ -78,7 +78,7 @@ def unknown_joint(robot: Robot):
         for tag in ("joint", "passive_joint"):
             for node in _children(transmission, tag):
                 name = node.get("name")
-                if name is None or robot.joint(name) is not None:
+                if name is None or robot.joint(name) is not None or lost(robot, name):
                     continue
                 edits, new, note = rename_edits(robot, robot.loc(node), tag, "name", name,
                                                 [j.name for j in robot.joints], True)
@@ -203,7 +203,7 @@ def ros2_control_joint(robot: Robot):
     for block in robot.elements("ros2_control"):
         for node in block.iter("joint"):
             name = node.get("name")
-            if name is None or robot.joint(name) is not None:
+            if name is None or robot.joint(name) is not None or lost(robot, name):
                 continue
             edits, new, note = rename_edits(robot, robot.loc(node), "joint", "name", name,
                                             [j.name for j in robot.joints], True)

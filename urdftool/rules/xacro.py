@@ -19,7 +19,7 @@ from pathlib import Path
 
 from urdftool.findings import Finding
 from urdftool.model import Robot
-from urdftool.rules import rule, source_rule
+from urdftool.rules import include_failed, rule, source_rule
 from urdftool.source import FOREIGN_BLOCKS
 
 XACRO_NS = "http://www.ros.org/wiki/xacro"
@@ -138,8 +138,14 @@ def _tried(robot) -> str:
 def xacro_error(robot: Robot):
     old_style = sorted({tag for text in robot.source.texts.values()
                         for tag in _OLD_TAG_RE.findall(text)})
+    held_back = include_failed(robot)
     for finding in robot.source.problems_for("xacro.error"):
         kind, message, hint = classify(finding.message, robot)
+        if held_back and kind in ("undefined-property", "undefined-macro"):
+            continue  # perhaps defined in the include that could not be read: that is the cause
+        if held_back and kind == "missing-include":
+            message += ("; what it may define is not checked until it is read (names, "
+                        "properties and macros used here and defined nowhere else)")
         if old_style and kind in ("undefined-property", "undefined-macro", "undefined-arg"):
             tags = ", ".join(f"<{tag}>" for tag in old_style)
             hint = (f"{hint}; note: this file uses {tags} without the xacro: prefix, which "

@@ -68,6 +68,7 @@ def convert_source(source, path: Path, text: str, options: ConvertOptions):
         top = reader.read_model(element, doc)
     builder = Builder(source, reader, top, options)
     source.root = builder.build()
+    reader.finish()
     source.forget_xpaths()  # the paths named SDF elements: the SDF document can go
     return builder
 

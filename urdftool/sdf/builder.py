@@ -241,6 +241,8 @@ class Builder:
             key = self.graph.link_written(entity.scope, name) or \
                 self.graph.reference(entity.scope, name, child, f"joint {tag}")
             if key is None:
+                if self.reader.is_lost(entity.scope.prefix + name):
+                    self.reader.lost.append(entity.key)  # left out with the include
                 return None
             link = self.graph.attached_link(key)
             if link is None:

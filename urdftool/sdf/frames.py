@@ -91,6 +91,8 @@ class PoseGraph:
 
     def reference(self, scope: Scope, name: str, element, what: str) -> str | None:
         key = self.lookup(scope, name)
+        if key is None and self.reader.is_lost(scope.prefix + name):
+            return None  # in a model whose include could not be read: that finding says it
         if key is None:
             known = sorted(k[len(scope.prefix):] for k in self.nodes if k.startswith(scope.prefix))
             import difflib

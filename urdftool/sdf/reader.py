@@ -124,6 +124,11 @@ class Reader:
         self._element_doc: dict[int, Doc] = {}  # id(root) -> doc
         self._locs: dict = {}  # SDF element -> its Loc, shared by the URDF elements made from it
         self._include_stack: list[Path] = []
+        # issue 22.3, one finding per cause: the models whose include could not be read (their
+        # keys: what joints, frames and plugins name them by) and each unresolved URI's one
+        # finding (problem index, how many more includes of it)
+        self.lost: list[str] = []
+        self._unresolved: dict[str, list] = {}
 
     # -- reporting -------------------------------------------------------------------------
 
@@ -445,9 +450,44 @@ class Reader:
 
     # -- includes ---------------------------------------------------------------------------
 
+    def is_lost(self, key: str) -> str | None:
+        """The model whose include could not be read that ``key`` (a pose-graph key: model
+        frame, link, joint or frame) would be in, if any."""
+        for model in self.lost:
+            if key == model or key.startswith(model + "::"):
+                return model
+        return None
+
+    def finish(self) -> None:
+        """Say on each unresolved URI's one finding how many more includes of it there are;
+        hand the names left out to the rules (``Source.lost``)."""
+        self.source.lost = tuple(dict.fromkeys(self.lost))
+        for index, more in self._unresolved.values():
+            if more:
+                rule, finding = self.source.problems[index]
+                self.source.problems[index] = (rule, finding._replace(
+                    message=f"{finding.message}; {len(more)} more include(s) of it (model(s) "
+                            f"{', '.join(repr(k) for k in more)}) are left out the same way"))
+
     def read_include(self, include, parent: Scope | None) -> Scope | None:
-        doc = self.doc_of(include)
         uri = self.text_of(include, "uri")
+        name = self.text_of(include, "name") or _uri_model_name(uri) or ""
+        key = (parent.prefix if parent is not None else "") + name
+        problems = len(self.source.problems)
+        included = self._read_include(include, parent, uri, key)
+        if included is None and name and parent is not None:
+            self.lost.append(key)
+            rule, finding = (self.source.problems[problems]
+                             if len(self.source.problems) > problems else (None, None))
+            if rule == "sdf.include":  # say what is not checked because of it
+                self.source.problems[problems] = (rule, finding._replace(message=(
+                    f"{finding.message}: model '{key}' is left out, and what names it (joints, "
+                    "frames, plugins) is not checked until it is read")))
+        return included
+
+    def _read_include(self, include, parent: Scope | None, uri: str | None,
+                      key: str) -> Scope | None:
+        doc = self.doc_of(include)
         if not uri:
             self.report("sdf.include", "<include> has no <uri>", include,
                         hint="write <uri>model://NAME</uri> or a path")
@@ -460,6 +500,10 @@ class Reader:
                     else "check the path, or give its folder with --model-path DIR")
             if uri.startswith(("http://", "https://")):
                 hint = "urdftool does not download models; download it and use --model-path"
+            if uri in self._unresolved:  # one cause: one finding, counting the others
+                self._unresolved[uri][1].append(key)
+                return None
+            self._unresolved[uri] = [len(self.source.problems), []]
             self.report("sdf.include", f"cannot resolve include '{uri}' (model paths: {where})",
                         include, hint=hint)
             return None
