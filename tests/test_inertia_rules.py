@@ -508,3 +508,52 @@ def test_massless_subtree_is_one_finding_at_its_top(write):
     assert messages[0].startswith("link 'lone' moves") and "nor anything beyond it" in messages[0]
     assert messages[1].startswith("link 'p1' moves") and "the 2 moving links beyond" in messages[1]
     assert messages[2].startswith("link 'tip' moves") and "nor anything beyond it" in messages[2]
+
+
+# -- issue 22.3: a visual mesh that cannot be read does not hide what the collision allows ------
+
+WHEEL = """<robot name="r">
+  <link name="base"><inertial><mass value="5"/>
+    <inertia ixx="0.05" ixy="0" ixz="0" iyy="0.05" iyz="0" izz="0.05"/></inertial>
+    <collision><geometry><box size="0.4 0.3 0.1"/></geometry></collision></link>
+  <joint name="axle" type="continuous"><parent link="base"/><child link="wheel"/>
+    <origin xyz="0 0.2 0" rpy="-1.5707963267948966 0 0"/><axis xyz="0 0 1"/></joint>
+  <link name="wheel">
+    <inertial><mass value="{m}"/>
+      <inertia ixx="{i}" ixy="0" ixz="0" iyy="{i}" iyz="0" izz="{izz}"/></inertial>
+    <visual><geometry>{visual}</geometry></visual>
+    <collision><geometry><cylinder radius="{r}" length="0.04"/></geometry></collision>
+  </link>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("visual,severity", [
+    ('<mesh filename="meshes/wheel_not_there.dae"/>', "warning"),
+    ('<cylinder radius="0.1" length="0.04"/>', "error"),
+])
+def test_missing_visual_mesh_keeps_the_collision_bound(write, visual, severity):
+    """The wheel's moment about its axle is 7.8x m r², the most its 0.1 m collision cylinder
+    allows (every point within r of the axis). With the visual mesh missing, the collision
+    alone bounds it: a warning that says the visual was not read; with the visual drawn, the
+    error it always was."""
+    m, r = 2.0, 0.1
+    izz = 7.8 * m * r * r  # independent: the bound about the axis is m r²
+    path = write(WHEEL.format(m=m, r=r, i=0.6 * izz, izz=izz, visual=visual))
+    found = [d for d in findings(path) if d.rule == "inertia.exceeds-geometry"]
+    assert len(found) == 1, found
+    d = found[0]
+    assert d.severity == severity and "link 'wheel'" in d.message
+    assert f"is {izz / (m * r * r):.3g}x the most" in d.message
+    assert ("within its collision geometry" in d.message
+            and "its visual 'wheel_not_there.dae' was not read" in d.message) == \
+        (severity == "warning")
+
+
+def test_missing_visual_mesh_is_not_checked_within_twice_the_collision_bound(write):
+    """Between 1.1x and 2x the collision's bound, a visual that was not read may hold the mass
+    that explains it: no finding."""
+    m, r = 2.0, 0.1
+    path = write(WHEEL.format(m=m, r=r, i=0.75 * m * r * r, izz=1.5 * m * r * r,
+                              visual='<mesh filename="meshes/wheel_not_there.dae"/>'))
+    assert [d for d in findings(path) if d.rule == "inertia.exceeds-geometry"] == []

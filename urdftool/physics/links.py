@@ -86,6 +86,9 @@ class LinkAnalysis:
     derived: Mat3 | None = None  # for the declared mass, about its centroid, inertial frame
     volumes: dict[str, float] = field(default_factory=dict)  # role -> volume of complete sets
     bound: BoundCheck | None = None  # the worst axis
+    # the geometry the bound was taken over: all of it, or only the collisions when a visual
+    # could not be read (issue 22.3: a missing visual mesh must not hide what they allow)
+    bound_over: str = "visual and collision"
     com_distance: float | None = None  # declared COM to the geometry's convex hull
     com_thickness: float | None = None  # the hull's width along the direction to the COM
     ratios: Vec3 | None = None  # declared / derived moment about each inertial axis
@@ -331,9 +334,15 @@ def _judge(a: LinkAnalysis) -> None:
     inertial_origin = a.link.inertial.origin
     if not all(math.isfinite(v) for v in inertial_origin.xyz + inertial_origin.rpy):
         return  # the schema rules report it; nothing can be placed
-    # bound over the union of visual and collision geometry
-    if a.complete:
-        extents = a.extents
+    # bound over the union of visual and collision geometry; when only a visual is unusable
+    # (a mesh not found, not read), over the collisions: an error only far above their bound,
+    # which the visual might have widened
+    collisions = [s for s in a.shapes if s.shape.role == "collision"]
+    collision_only = not a.complete and bool(collisions) and all(s.usable for s in collisions)
+    if a.complete or collision_only:
+        shapes = a.shapes if a.complete else collisions
+        a.bound_over = "visual and collision" if a.complete else "collision"
+        extents = [s.extent for s in shapes]
         axes: list[tuple[str, Vec3]] = [(AXIS_NAMES[i], phys.IDENTITY[i]) for i in range(3)]
         if a.principal_axes is not None and any(
                 abs(x) > 1e-9 for i, row in enumerate(a.declared) for j, x in enumerate(row)
@@ -342,17 +351,22 @@ def _judge(a: LinkAnalysis) -> None:
         worst = None
         link_axes = [phys.mat_vec(a.frame, axis) for _, axis in axes]
         for (name, axis), link_axis, reach2 in zip(axes, link_axes,
-                                                   _reaches(a.shapes, a.com, link_axes)):
+                                                   _reaches(shapes, a.com, link_axes)):
             moment = phys.dot(axis, phys.mat_vec(a.declared, axis))
             check = BoundCheck(name, link_axis, moment, m * reach2, math.sqrt(reach2))
             if worst is None or check.ratio > worst.ratio:
                 worst = check
         a.bound = worst
-        if worst is not None and worst.ratio > BOUND_TOLERANCE:
-            a.findings["exceeds-geometry"] = "error" if worst.ratio > BOUND_ERROR else "warning"
-        a.com_distance, a.com_thickness = phys.hull_escape(a.com, extents)
-        if a.com_distance > COM_TOLERANCE * a.com_thickness:
-            a.findings["com-outside-geometry"] = "warning"
+        if collision_only:
+            if worst is not None and worst.ratio > BOUND_ERROR:
+                a.findings["exceeds-geometry"] = "warning"
+        else:
+            if worst is not None and worst.ratio > BOUND_TOLERANCE:
+                a.findings["exceeds-geometry"] = \
+                    "error" if worst.ratio > BOUND_ERROR else "warning"
+            a.com_distance, a.com_thickness = phys.hull_escape(a.com, extents)
+            if a.com_distance > COM_TOLERANCE * a.com_thickness:
+                a.findings["com-outside-geometry"] = "warning"
     # geometry-derived inertia for the declared mass
     if a.solid is None:
         return

@@ -467,12 +467,23 @@ def exceeds_geometry(robot):
         axis = b.axis_name if b.axis_name.startswith("principal") else f"{b.axis_name} axis"
         yield Finding(f"link '{a.link.name}': moment {_g(b.moment)} kg·m² about the "
                       f"{axis} through the COM is {b.ratio:.3g}x the most {m:g} kg can have "
-                      f"within its visual and collision geometry ({m:g} kg × "
-                      f"({_g(b.reach)} m)² = {_g(b.bound)} kg·m²)"
+                      f"within its {a.bound_over} geometry ({m:g} kg × "
+                      f"({_g(b.reach)} m)² = {_g(b.bound)} kg·m²)" + _unread_visuals(a)
                       + (f"; ixx = iyy = izz = {a.declared[0][0]:g} looks like a placeholder"
                          if analysis.is_placeholder(a.declared) else "") + merged,
                       _moment_loc(robot, a.link, b.axis_name),
                       hint=(_block_hint(a) or "") + note or None, severity=severity, edits=edits)
+
+
+def _unread_visuals(a) -> str:
+    """What a bound over the collisions alone says of the visuals it left out."""
+    if a.bound_over != "collision":
+        return ""
+    unread = [s for s in a.shapes if s.shape.role == "visual" and not s.usable]
+    names = ", ".join(f"'{s.path.name if s.path is not None else s.shape.geometry.filename}'"
+                      for s in unread[:2]) + (" ..." if len(unread) > 2 else "")
+    return (f" (its visual {names} was not read: a warning, since a visual larger than the "
+            "collision could allow more)")
 
 
 def _merged_verdict(name: str, effect) -> tuple[str, str]:
