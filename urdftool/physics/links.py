@@ -38,6 +38,11 @@ NO_TRIMESH = "trimesh is not installed"  # ShapeInfo.problem of a mesh that was 
 NO_LIBRARY = "an optional library it needs is not installed"  # (meshes.missing_library)
 UNREAD_FORMAT = "a mesh format urdftool does not read"
 NEGLIGIBLE_EFFECT = 0.01  # relative change of a merged body's principal moments
+# issue 22.4: a tensor too large for its link's geometry, on a link lumped into a body, is an
+# error only when it changes the body's principal moments by more than this fraction (the
+# merged tensor itself stays possible: a sum of possible tensors, shifted, is one) (10%: the dynamics a simulator or controller computes for the body
+# change by that much; below it, by less than CAD inertias typically differ from the part)
+MERGED_ERROR_FRACTION = 0.10
 
 
 @dataclass

@@ -444,7 +444,14 @@ impossible for that mass (typically a placeholder like `ixx="1"` on a 50 g finge
 slip). Between 1.1x and 2x it is a warning: possible only if the geometry leaves out part of
 the body (a motor that is not drawn). Up to 10% over is let through: rounded numbers and
 decimated meshes (whose hull is slightly smaller than the part) get that close to the bound.
-Links whose geometry is missing or unreadable are not checked.""",
+Links without geometry are not checked; when only a visual cannot be read (a mesh not found),
+the bound is taken over the collisions alone and only more than 2x over it is reported, as a
+warning that names the visual (it might have widened the bound).
+
+A link fixed to another is lumped into that body by Gazebo, Drake and MuJoCo, whose own tensor
+stays possible (a sum of possible tensors): such a tensor is an error only when it changes the
+merged body's principal moments by more than 10% against a point mass in its place (the
+body's dynamics change by that much); otherwise a warning that gives the change.""",
       bad=_robot(_link("wheel", "0.1", ("1.0", "1.0", "1.0"),
                        '<cylinder radius="0.025" length="0.02"/>')),
       good=_robot(_link("wheel", "0.1", ("1.9e-05", "1.9e-05", "3.1e-05"),
@@ -497,9 +504,13 @@ def _merged_verdict(name: str, effect) -> tuple[str, str]:
     lumped = (f"; Gazebo, Drake and MuJoCo lump fixed links into one body: '{name}' joins "
               f"'{body.root}' ({body.mass:.4g} kg, {body.links} links with mass), whose "
               f"principal moments this tensor changes by {change} against a point mass")
+    limit = f"{100 * analysis.MERGED_ERROR_FRACTION:g}%"
     if effect.change < analysis.NEGLIGIBLE_EFFECT:
         return "warning", lumped + ": negligible there"
-    return "error", lumped
+    if effect.change <= analysis.MERGED_ERROR_FRACTION:
+        return "warning", (lumped + f": the body it joins is possible, and changed by no more "
+                           f"than the {limit} urdftool calls an error")
+    return "error", lumped + f", more than the {limit} urdftool calls an error"
 
 
 def _permutation_text(perm: tuple[int, int, int]) -> str:
