@@ -239,3 +239,56 @@ def test_merged_body_error_only_above_the_stated_fraction(write, moment):
     change = max(abs(a - b) / b for a, b in zip(*moments))
     assert f"{100 * change:.3g}%" in message and "10%" in message
     assert severity == ("error" if change > 0.10 else "warning"), (change, message)
+
+
+# -- issue 22.4: inertias simulation models set on purpose ---------------------------------------
+
+AIRCRAFT = """<robot name="uav">
+  <link name="base_link"><inertial><mass value="1.5"/>
+    <inertia ixx="0.029" ixy="0" ixz="0" iyy="0.029" iyz="0" izz="0.055"/></inertial>
+    <collision><geometry><box size="0.47 0.47 0.11"/></geometry></collision></link>
+  <joint name="rotor_0_joint" type="continuous"><parent link="base_link"/><child link="rotor_0"/>
+    <origin xyz="0.13 -0.22 0.023"/><axis xyz="0 0 1"/></joint>
+  <link name="rotor_0"><inertial><mass value="0.005"/>
+    <inertia ixx="9.75e-07" ixy="0" ixz="0" iyy="0.000273104" iyz="0" izz="0.000274004"/>
+    </inertial>
+    <collision><geometry><cylinder radius="0.128" length="0.005"/></geometry></collision></link>
+  <joint name="elevon_joint" type="revolute"><parent link="base_link"/><child link="elevon"/>
+    <origin xyz="-0.2 0.1 0"/><axis xyz="0 1 0"/>
+    <limit lower="-0.5" upper="0.5" effort="1" velocity="1"/></joint>
+  <link name="elevon"><inertial><mass value="{surface_mass}"/>
+    <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
+    <collision><geometry><box size="0.05 0.3 0.005"/></geometry></collision></link>
+{plugins}</robot>
+"""
+PLUGINS = """  <gazebo><plugin name="rotor_0_motor_model" filename="libgazebo_motor_model.so">
+    <jointName>rotor_0_joint</jointName><linkName>rotor_0</linkName></plugin></gazebo>
+  <gazebo><plugin name="elevon_lift_drag" filename="libLiftDragPlugin.so">
+    <link_name>elevon</link_name><control_joint_name>elevon_joint</control_joint_name>
+  </plugin></gazebo>
+"""
+
+
+@pytest.mark.parametrize("plugins", [True, False])
+def test_rotor_and_control_surface_inertias_are_the_models_convention(write, plugins):
+    """PX4's iris rotor: 0.005 kg and izz 2.74e-4 kg·m², 3.3x m r² of its 0.128 m disc (the
+    most any mass inside it can have about the axis): impossible, and set on purpose by the
+    model that flies in software-in-the-loop. Named by its motor plugin it is a warning that
+    says so; the same link without the plugin is the error it is."""
+    text = AIRCRAFT.format(surface_mass="1e-05", plugins=PLUGINS if plugins else "")
+    found = {m.split("'")[1]: (r, s, m) for r, s, m in findings(write, text)
+             if r == "inertia.exceeds-geometry"}
+    rule, severity, message = found["rotor_0"]
+    assert f"is {0.000274004 / (0.005 * 0.128 ** 2):.3g}x the most" in message
+    assert severity == ("warning" if plugins else "error")
+    assert ("rotor of the multicopter plugin 'libgazebo_motor_model.so'" in message) == plugins
+    rule, severity, message = found["elevon"]
+    assert severity == ("warning" if plugins else "error")
+    assert ("control surface of the plugin 'libLiftDragPlugin.so'" in message) == plugins
+
+
+def test_a_heavy_control_surface_is_no_convention(write):
+    text = AIRCRAFT.format(surface_mass="0.4", plugins=PLUGINS)
+    found = {m.split("'")[1]: (r, s, m) for r, s, m in findings(write, text)
+             if r == "inertia.exceeds-geometry"}
+    assert found["elevon"][1] == "error" and "control surface" not in found["elevon"][2]

@@ -76,6 +76,59 @@ def _analyses(robot, name: str):
             yield a
 
 
+# issue 22.4: inertias that simulation models set on purpose. A multicopter's motor plugin spins
+# a rotor link (its inertia tuned so that software-in-the-loop flies), a fixed-wing's lift-drag
+# plugin moves a control surface whose mass is negligible: physically impossible tensors there
+# are the model's convention, warnings that say so
+_ROTOR_PLUGINS = ("motor_model", "motormodel", "multicopter", "multirotor", "rotor",
+                  "propeller")
+_SURFACE_PLUGINS = ("lift_drag", "liftdrag", "lift-drag", "control_surface")
+NEGLIGIBLE_MASS = 0.01  # a control surface lighter than 1% of the robot
+
+
+def _conventions(robot) -> dict[str, str]:
+    """Link name -> why its inertia is a simulation convention (the plugin that names it)."""
+    from urdftool.rules.gazebo import _local, _named, plugins
+
+    found: dict[str, str] = {}
+    total = sum(link.inertial.mass for link in robot.links if link.inertial is not None
+                and link.inertial.mass is not None and math.isfinite(link.inertial.mass)
+                and link.inertial.mass > 0)
+    for plugin in plugins(robot):
+        what = f"{plugin.get('filename') or ''} {plugin.get('name') or ''}".lower()
+        rotor = any(p in what for p in _ROTOR_PLUGINS)
+        surface = any(p in what for p in _SURFACE_PLUGINS)
+        if not (rotor or surface):
+            continue
+        label = plugin.get("filename") or plugin.get("name") or "plugin"
+        for node in plugin.iter():
+            if _local(node.tag) not in ("linkName", "link_name", "bodyName", "body_name"):
+                continue
+            name = _named(robot, (node.text or "").strip())
+            link = robot.link(name)
+            if link is None or link.inertial is None or link.inertial.mass is None:
+                continue
+            if rotor:
+                found[name] = (f"; '{name}' is a rotor of the multicopter plugin '{label}', "
+                               "whose simulation models set rotor inertia on purpose (the "
+                               "model flies in software-in-the-loop with it): a warning")
+            elif total > 0 and link.inertial.mass <= NEGLIGIBLE_MASS * total:
+                found[name] = (f"; '{name}' is a control surface of the plugin '{label}' with "
+                               f"a negligible mass ({link.inertial.mass:g} of {total:g} kg), "
+                               "whose inertia simulation models shrink or inflate on purpose: "
+                               "a warning")
+    return found
+
+
+def _convention(robot, a, severity: str, message: str) -> tuple[str, str]:
+    """(severity, message) of an impossible tensor, a warning on a link whose inertia is a
+    simulation model's convention."""
+    if severity != "error" or a.link.name is None:
+        return severity, message
+    why = _conventions(robot).get(a.link.name)
+    return ("warning", message + why) if why else (severity, message)
+
+
 def _g(value: float) -> str:
     return f"{value:.4g}"
 
@@ -395,8 +448,10 @@ def not_positive_definite(robot):
         low, mid, high = a.principal
         moments = f"principal moments {_g(low)}, {_g(mid)}, {_g(high)} kg·m²"
         if severity == "error":
-            yield Finding(f"link '{a.link.name}': {moments}: {_g(low)} is negative, which no "
-                          "mass distribution gives", _inertia_loc(a.link),
+            severity, message = _convention(
+                robot, a, severity, f"link '{a.link.name}': {moments}: {_g(low)} is negative, "
+                "which no mass distribution gives")
+            yield Finding(message, _inertia_loc(a.link), severity=severity,
                           hint="check the signs of ixy, ixz, iyz (URDF wants -∫xy dm; CAD "
                                "tools often export +∫xy dm)")
         else:
@@ -422,9 +477,11 @@ def triangle_inequality(robot):
         low, mid, high = a.principal
         excess = high - (low + mid)
         edits, note = _derived_edits(robot, a)
-        yield Finding(f"link '{a.link.name}': principal moments {_g(low)} + {_g(mid)} < "
-                      f"{_g(high)} kg·m² (short by {excess / high:.0%} of the largest): no mass "
-                      "distribution has these moments", _inertia_loc(a.link),
+        severity, message = _convention(
+            robot, a, "error", f"link '{a.link.name}': principal moments {_g(low)} + {_g(mid)} "
+            f"< {_g(high)} kg·m² (short by {excess / high:.0%} of the largest): no mass "
+            "distribution has these moments")
+        yield Finding(message, _inertia_loc(a.link), severity=severity,
                       hint=(_block_hint(a) or "recompute the inertia from the link's shape")
                       + note, edits=edits)
 
@@ -451,7 +508,13 @@ warning that names the visual (it might have widened the bound).
 A link fixed to another is lumped into that body by Gazebo, Drake and MuJoCo, whose own tensor
 stays possible (a sum of possible tensors): such a tensor is an error only when it changes the
 merged body's principal moments by more than 10% against a point mass in its place (the
-body's dynamics change by that much); otherwise a warning that gives the change.""",
+body's dynamics change by that much); otherwise a warning that gives the change.
+
+Simulation models set some inertias on purpose: the rotors a multicopter motor plugin spins
+(`<linkName>` of a motor-model/multicopter/rotor plugin) and control surfaces of negligible
+mass (under 1% of the robot) that a lift-drag plugin moves. There an impossible tensor is a
+warning that names the plugin (also for `inertia.triangle-inequality` and
+`inertia.not-positive-definite`).""",
       bad=_robot(_link("wheel", "0.1", ("1.0", "1.0", "1.0"),
                        '<cylinder radius="0.025" length="0.02"/>')),
       good=_robot(_link("wheel", "0.1", ("1.9e-05", "1.9e-05", "3.1e-05"),
@@ -472,12 +535,13 @@ def exceeds_geometry(robot):
             if effect is not None:
                 severity, merged = _merged_verdict(a.link.name, effect)
         axis = b.axis_name if b.axis_name.startswith("principal") else f"{b.axis_name} axis"
+        severity, convention = _convention(robot, a, severity, "")
         yield Finding(f"link '{a.link.name}': moment {_g(b.moment)} kg·m² about the "
                       f"{axis} through the COM is {b.ratio:.3g}x the most {m:g} kg can have "
                       f"within its {a.bound_over} geometry ({m:g} kg × "
                       f"({_g(b.reach)} m)² = {_g(b.bound)} kg·m²)" + _unread_visuals(a)
                       + (f"; ixx = iyy = izz = {a.declared[0][0]:g} looks like a placeholder"
-                         if analysis.is_placeholder(a.declared) else "") + merged,
+                         if analysis.is_placeholder(a.declared) else "") + merged + convention,
                       _moment_loc(robot, a.link, b.axis_name),
                       hint=(_block_hint(a) or "") + note or None, severity=severity, edits=edits)
 
