@@ -400,3 +400,26 @@ def test_old_unprefixed_xacro_is_left_to_the_xacro_family(write):
     assert any(d.rule == "xacro.unprefixed-macro-call" and d.line == 4
                for d in report.diagnostics)
     assert not [d for d in report.diagnostics if d.rule.startswith("schema.")]
+
+
+def test_urdf_frame_names_the_consumer_that_reads_it(tmp_path):
+    """issue 22.4: Drake's URDF parser reads <robot><frame>; the finding says so (checked here
+    with Drake itself) instead of 'URDF parsers ignore it'."""
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.plant import MultibodyPlant
+
+    from urdftool.check import CheckOptions, check_file
+
+    text = ('<robot name="r"><link name="a"/>'
+            '<frame name="tip" link="a" xyz="0 0 0.1" rpy="0 0 0"/></robot>')
+    plant = MultibodyPlant(0.0)
+    Parser(plant).AddModelsFromString(text, "urdf")
+    plant.Finalize()
+    assert list(plant.GetFrameByName("tip").GetFixedPoseInBodyFrame().translation()) == \
+        [0.0, 0.0, 0.1]
+    path = tmp_path / "r.urdf"
+    path.write_text(text)
+    [d] = [d for d in check_file(path, CheckOptions(select=["schema"])).diagnostics]
+    assert d.rule == "schema.sdf-element"
+    assert "Drake's URDF parser reads it" in d.message and "ignore it" in d.message
+    assert "URDF parsers ignore it" not in d.message

@@ -278,11 +278,11 @@ def test_rotor_and_control_surface_inertias_are_the_models_convention(write, plu
     text = AIRCRAFT.format(surface_mass="1e-05", plugins=PLUGINS if plugins else "")
     found = {m.split("'")[1]: (r, s, m) for r, s, m in findings(write, text)
              if r == "inertia.exceeds-geometry"}
-    rule, severity, message = found["rotor_0"]
+    _, severity, message = found["rotor_0"]
     assert f"is {0.000274004 / (0.005 * 0.128 ** 2):.3g}x the most" in message
     assert severity == ("warning" if plugins else "error")
     assert ("rotor of the multicopter plugin 'libgazebo_motor_model.so'" in message) == plugins
-    rule, severity, message = found["elevon"]
+    _, severity, message = found["elevon"]
     assert severity == ("warning" if plugins else "error")
     assert ("control surface of the plugin 'libLiftDragPlugin.so'" in message) == plugins
 

@@ -502,8 +502,11 @@ class _Walk:
             return
         sdf_hint = self.table["sdf_elements"].get(child_tag)
         if sdf_hint:
+            readers = _READ_BY.get((tag, child_tag))
             self.add("schema.sdf-element",
-                     f"<{child_tag}> in <{tag}> is SDF, not URDF: URDF parsers ignore it",
+                     f"<{child_tag}> in <{tag}> is SDF, not URDF: " + (
+                         f"{readers[0]}; {readers[1]} ignore it" if readers
+                         else "URDF parsers ignore it"),
                      loc, hint=sdf_hint)
             return
         belongs = self.table["_allowed_in"].get(child_tag)
@@ -631,13 +634,25 @@ def misplaced_element(robot):
     return findings(robot, "schema.misplaced-element")
 
 
+# SDF elements some URDF consumer reads after all: (parent, tag) -> (who reads it, who ignores it)
+# (checked with Drake's parser: <robot><frame name link xyz rpy/> is a frame fixed to the link)
+_READ_BY = {
+    ("robot", "frame"): ("Drake's URDF parser reads it (a frame fixed to its link)",
+                         ("urdfdom (ROS: robot_state_publisher, rviz, MoveIt), Gazebo, "
+                          "PyBullet and pinocchio")),
+}
+
+
 @rule("schema.sdf-element", "warning", "an SDF-only element inside URDF",
       doc="""
 SDF and URDF look alike, and SDF elements pasted into a URDF are ignored without a word: a
 `<pose>` in a link does not move anything (URDF has no `<pose>`; use `<origin xyz rpy>` on the
 inertial/visual/collision, or on the joint), `<gravity>`, `<kinematic>`, `<self_collide>` and
 `<surface>` in a link do nothing outside a `<gazebo reference="LINK">` block, `<ixx>` elements
-inside `<inertia>` leave the inertia unset. The hint gives the URDF way to say it.
+inside `<inertia>` leave the inertia unset. The hint gives the URDF way to say it. Where a
+consumer reads such an element after all, the message says which: `<frame name link xyz rpy>`
+under `<robot>` is read by Drake's URDF parser (a frame fixed to a link) and ignored by urdfdom
+(so by ROS tools), Gazebo, PyBullet and pinocchio.
 """,
       bad='<robot name="r">\n  <link name="base">\n    <pose>0 0 0.1 0 0 0</pose>\n'
           '    <visual><geometry><box size="1 1 0.2"/></geometry></visual>\n  </link>\n</robot>',
