@@ -405,3 +405,52 @@ def test_two_links_of_one_name_are_refused_and_one_is_written(tmp_path, version)
     root = etree.fromstring(urdf.encode())
     assert [l.get("name") for l in root.iter("link")] == ["base", "arm"]
     assert [(j.get("name"), j.get("type")) for j in root.iter("joint")] == [("j", "revolute")]
+
+
+# -- 7. an included model placed by its <include><pose>, joined by a joint written reversed -----
+
+
+def _model(models: Path, name: str, body: str, version: str = "1.5") -> None:
+    (models / name).mkdir(parents=True)
+    (models / name / "model.config").write_text(
+        f'<model><name>{name}</name><sdf version="{version}">model.sdf</sdf></model>')
+    (models / name / "model.sdf").write_text(sdf(body, version, name))
+
+
+@pytest.mark.parametrize("nested", [False, True])
+def test_include_pose_overrides_the_model_pose_through_a_reversed_joint(tmp_path, nested):
+    """issue 22.7, the shape of a real Gazebo model (SDFormat 1.5): an arm model whose own
+    <pose> puts it 0.3 m up is included with an <include><pose> that replaces that pose, and is
+    joined to the parent by a joint whose parent is the included link while the child already
+    hangs on another joint, so URDF writes it reversed (its origin inverted through the
+    included link's frame, which the include's pose placed). Nested: the arm is included by a
+    rig model that is itself included with a pose. Drake's libsdformat is the oracle."""
+    models = tmp_path / "models"
+    arm = ("<pose>0 0 0.3 0 0 0.4</pose>" + link("upper", "0.1 0.02 0.05 0.1 0.2 0")
+           + link("lower", "0.3 0 0.05 0 0 0")
+           + joint("elbow", "upper", "lower", axis="1 0 0", pose="0.03 0.01 -0.02 0.2 0 0.1"))
+    _model(models, "arm", arm)
+    include = "<include><uri>model://arm</uri><pose>0.5 0.1 0.2 0 0.3 0</pose></include>"
+    prefix = "arm::"
+    if nested:
+        _model(models, "rig", "<pose>0.3 0 0 0 0.2 0</pose>" + link("frame", "0 0.1 0 0 0 0")
+               + include + joint("rig_joint", "frame", "arm::upper", axis="0 1 0"))
+        include = "<include><uri>model://rig</uri><pose>0 0.4 0.1 0.3 0 0</pose></include>"
+        prefix = "rig::arm::"
+    text = sdf(link("base", "0 0 0.1 0 0 0") + link("plate", "0.2 0 0.2 0 0 0")
+               + joint("spin", "base", "plate")
+               + include
+               + joint("mount", f"{prefix}lower", "plate", axis="1 0 0",
+                       pose="0.03 0.01 -0.02 0.2 0 0.1"), version="1.5", name="robot")
+    path, urdf, result = convert(tmp_path, text, "--model-path", str(models))
+    assert result.code == 0, result.err
+    assert "joint 'mount' is written reversed" in result.err
+    # Drake resolves model://NAME/FILE through its package map
+    by_file = tmp_path / "by_file.sdf"
+    by_file.write_text(text.replace("<uri>model://arm</uri>", "<uri>model://arm/model.sdf</uri>")
+                       .replace("<uri>model://rig</uri>", "<uri>model://rig/model.sdf</uri>"))
+    if nested:
+        rig = models / "rig" / "model.sdf"
+        rig.write_text(rig.read_text().replace("<uri>model://arm</uri>",
+                                               "<uri>model://arm/model.sdf</uri>"))
+    assert_matches(compare(by_file, urdf, model_paths=(models,)))
