@@ -215,14 +215,18 @@ def test_unresolved_sdf_include_is_the_one_finding(tmp_path):
     include = next(d for d in report.diagnostics if d.rule == "sdf.include")
     assert "model 'left_wheel' is left out" in include.message
     assert "1 more include(s) of it (model(s) 'right_wheel')" in include.message
+    # the same through the sandboxed reader (--untrusted, CI): what is left out travels with it
+    from urdftool.source import LoadOptions
+
+    untrusted = check_file(path, CheckOptions(load=LoadOptions(untrusted=True)))
+    assert [(d.rule, d.line, d.message) for d in untrusted.diagnostics] == \
+        [(d.rule, d.line, d.message) for d in report.diagnostics]
     # with the model found, the same names are checked, and all of them resolve
     (tmp_path / "models" / "rover_wheel").mkdir(parents=True)
     (tmp_path / "models" / "rover_wheel" / "model.sdf").write_text(WHEEL)
     (tmp_path / "models" / "rover_wheel" / "model.config").write_text(
         '<model><name>rover_wheel</name><sdf version="1.6">model.sdf</sdf></model>')
     path.write_text(ROVER.format(typo="left_wheel_hinge"))
-    from urdftool.source import LoadOptions
-
     options = CheckOptions()
     options.load = LoadOptions(sdf_model_paths=[str(tmp_path / "models")])
     report = check_file(path, options)
