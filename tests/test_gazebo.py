@@ -202,7 +202,7 @@ WHEEL = """<?xml version="1.0"?>
 """
 
 
-def test_unresolved_sdf_include_is_the_one_finding(tmp_path):
+def test_unresolved_sdf_include_is_the_one_finding(tmp_path, monkeypatch):
     """The wheel model is not on the model path: its include is the one cause. The joints that
     name its link, and the plugins that name those joints or its link, are not findings of
     their own (there were 2 sdf.missing-frame, 3 plugin-unknown-joint, 1 plugin-unknown-link
@@ -216,8 +216,10 @@ def test_unresolved_sdf_include_is_the_one_finding(tmp_path):
     assert "model 'left_wheel' is left out" in include.message
     assert "1 more include(s) of it (model(s) 'right_wheel')" in include.message
     # the same through the sandboxed reader (--untrusted, CI): what is left out travels with it
+    from urdftool.physics import meshes
     from urdftool.source import LoadOptions
 
+    monkeypatch.setattr(meshes, "PARSER", meshes.PARSER)  # an untrusted run installs its own
     untrusted = check_file(path, CheckOptions(load=LoadOptions(untrusted=True)))
     assert [(d.rule, d.line, d.message) for d in untrusted.diagnostics] == \
         [(d.rule, d.line, d.message) for d in report.diagnostics]
