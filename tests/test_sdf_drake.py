@@ -442,7 +442,7 @@ def test_include_pose_overrides_the_model_pose_through_a_reversed_joint(tmp_path
                + include
                + joint("mount", f"{prefix}lower", "plate", axis="1 0 0",
                        pose="0.03 0.01 -0.02 0.2 0 0.1"), version="1.5", name="robot")
-    path, urdf, result = convert(tmp_path, text, "--model-path", str(models))
+    _path, urdf, result = convert(tmp_path, text, "--model-path", str(models))
     assert result.code == 0, result.err
     assert "joint 'mount' is written reversed" in result.err
     # Drake resolves model://NAME/FILE through its package map
