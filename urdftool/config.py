@@ -15,6 +15,7 @@ outside the repository) is a ToolError (exit 2) naming the key, with a did-you-m
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import NamedTuple
 
@@ -71,6 +72,15 @@ def find_config(start: Path, memo: dict | None = None) -> tuple[Path, dict] | No
 def _config_in(directory: Path) -> tuple[Path, dict] | bool:
     for name in ("urdftool.toml", "pyproject.toml"):
         candidate = directory / name
+        if not os.path.lexists(candidate):
+            continue
+        try:  # a committed link to outside (or to .git/config) is refused unread, the same
+            # answer whether or not its target exists
+            clamp(name, directory, name, repository_for(directory))
+        except OutsideRepository:
+            raise ToolError(f"{candidate}: a link to outside the repository (or into its "
+                            "version-control metadata): not read "
+                            "(a configuration is a repository file)") from None
         if not candidate.is_file():
             continue
         data = _read_toml(candidate)

@@ -14,6 +14,7 @@ import stat
 from pathlib import Path
 
 from urdftool.files import read_regular_text
+from urdftool.roots import has_vcs_component
 
 _NAME_RE = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 
@@ -62,7 +63,15 @@ def _resolve(key: str) -> str:
     return str(Path(key).resolve())
 
 
-def _package_name(package_xml: Path) -> str | None:
+def _package_name(package_xml: Path, root: Path | str | None = None) -> str | None:
+    """The ``<name>`` of a ``package.xml``. With ``root`` (the repository or the operator's
+    directory being crawled), a ``package.xml`` that is a link resolving outside it (or into
+    version-control metadata) is not read: a committed link names no file of the machine."""
+    if root is not None and os.path.islink(package_xml):
+        top = Path(os.path.realpath(root))
+        target = Path(os.path.realpath(package_xml))
+        if not target.is_relative_to(top) or has_vcs_component(target, top):
+            return None
     try:
         match = _NAME_RE.search(read_regular_text(package_xml, 1 << 20))
     except OSError:
@@ -98,7 +107,7 @@ def crawl(root: Path | str) -> dict[str, Path]:
         except OSError:
             continue
         if "package.xml" in names:
-            name = _package_name(directory / "package.xml")
+            name = _package_name(directory / "package.xml", root)
             if name:
                 found.setdefault(name, directory)
             continue
@@ -141,7 +150,8 @@ def ament_packages(prefix: Path | str) -> dict[str, Path]:
         shared = []
     for name in shared:
         if name not in found and is_file(share / name / "package.xml"):
-            found.setdefault(_package_name(share / name / "package.xml") or name, share / name)
+            found.setdefault(_package_name(share / name / "package.xml", prefix) or name,
+                             share / name)
     _CRAWLS[key] = found
     return found
 
@@ -211,7 +221,7 @@ class PackageResolver:
                 if repository is not None and not parent.is_relative_to(repository):
                     break
                 if is_file(parent / "package.xml"):
-                    own = _package_name(parent / "package.xml")
+                    own = _package_name(parent / "package.xml", repository)
                     if own:
                         found.setdefault(own, parent)
                     if repository is None:  # not bounded: its siblings (library use)
