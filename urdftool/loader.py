@@ -17,11 +17,11 @@ The readers below (``source``, ``xacro_expand``, ``sdf``, ``physics.meshes``, ``
 from __future__ import annotations
 
 import os
+import sys
 from pathlib import Path
 
 from urdftool.errors import ToolError
 from urdftool.packages import PackageResolver
-from urdftool.physics import meshes
 from urdftool.roots import MODEL_VARIABLES, PATH_VARIABLES, Roots, repository_for
 from urdftool.source import LoadOptions, Source, detect_kind, find_unread, parse_text, read_input
 
@@ -89,7 +89,14 @@ def _parse_large_mesh(path, need_volume):
     return sandbox.parse_large_mesh(path, need_volume)
 
 
-meshes.LARGE_PARSER = _parse_large_mesh
+def _mesh_hook(source: Source) -> None:
+    """Large meshes parsed in the sandboxed reader in every mode (``meshes.LARGE_PARSER``):
+    set when a document has a mesh, so that a robot without one never imports the mesh
+    module (check's start-up on a primitive robot, tests/test_startup.py)."""
+    if source.root is not None and next(source.root.iter("mesh"), None) is not None:
+        from urdftool.physics import meshes
+
+        meshes.LARGE_PARSER = _parse_large_mesh
 
 _FILES_READ: set[str] = set()
 
@@ -106,7 +113,8 @@ def files_read() -> set[str]:
     """Realpaths of every file the loads of this process read: each input, include and YAML
     file (in this process or reported by the sandboxed reader: ``Source.texts``,
     ``Source.unread``, ``Source.reads``) and each mesh summarised (``physics.meshes``)."""
-    return _FILES_READ | set(meshes._CACHE)
+    meshes = sys.modules.get("urdftool.physics.meshes")  # no mesh read: not imported
+    return _FILES_READ | (set(meshes._CACHE) if meshes is not None else set())
 
 
 def load(path: str | Path, options: LoadOptions | None = None) -> Source:
@@ -129,6 +137,7 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
         if kind != "urdf" and text.strip() and sandbox.available():
             source = sandbox.load_source(file_path, options, resolver, kind)
             note_read([*source.texts, *source.unread, *source.reads])
+            _mesh_hook(source)
             return source
     source = Source(str(path), kind, texts={str(path): text}, resolver=resolver)
     if not text.strip():
@@ -150,6 +159,7 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
 
         load_sdf(source, file_path, text, options)
     note_read([*source.texts, *source.unread, *source.reads])
+    _mesh_hook(source)
     return source
 
 
