@@ -18,6 +18,8 @@ UNNEEDED = (
     # xacro and SDF inputs
     "xacro", "yaml", "urdftool.xacro_expand", "urdftool.xacro_eval", "urdftool.sandbox",
     "urdftool.sdf", "string",
+    # meshes: only for a robot that has one (the loader sets its large-mesh hook then)
+    "urdftool.physics.meshes",
     # importlib.resources pulls in zipfile, tempfile, shutil, bz2, lzma, random (~4 ms)
     "importlib.resources", "zipfile", "tempfile", "shutil", "bz2", "lzma", "random",
     # did-you-mean hints and the XML repair; the mesh cache's file names and writes; --jobs
