@@ -148,3 +148,39 @@ def test_configuration_packages_never_widen(value, mode, tmp_path):
     assert result.code in (1, 2), result
     assert SECRET not in result.out + result.err
     assert "Traceback" not in result.err
+
+
+@pytest.mark.parametrize("command", ["check", "expand", "tree", "convert", "inertia", "limits",
+                                     "dh", "jacobian", "sim", "check-dir", "check-changed"])
+@pytest.mark.parametrize("mode", MODES)
+def test_a_committed_link_out_answers_the_same_whether_its_target_exists(command, mode,
+                                                                        tmp_path):
+    """A robot file that is a link out of the repository: one line, exit 2, naming the file as
+    given, the same bytes whether the target exists (was: "no such file" when it did not, an
+    existence oracle on the runner's files)."""
+    repo, outside = _checkout(tmp_path)
+    link = repo / "robot_description" / "urdf" / "flink.urdf"
+    (outside / "s.urdf").write_text(f'<?xml version="1.0"?>\n<robot name="{SECRET}">'
+                                    f'<link name="{SECRET}"></robot>\n')
+    name = "robot_description/urdf/flink.urdf"
+    args = {"check-dir": ("check", mode, "robot_description"),
+            "check-changed": ("check", mode, "--changed", "--", name)}.get(
+        command, (command, mode, name))
+    answers = []
+    cwd = os.getcwd()
+    os.chdir(repo)
+    try:
+        for target in ("s.urdf", "missing.urdf"):
+            if link.is_symlink():
+                link.unlink()
+            link.symlink_to(outside / target)
+            result = run_urdftool(*args)
+            assert result.code == 2, result
+            assert SECRET not in result.out + result.err
+            answers.append(result.err)
+    finally:
+        os.chdir(cwd)
+    assert answers[0] == answers[1]
+    assert answers[0].strip() == (f"urdftool: {name}: outside the repository and the "
+                                  "operator's directories (a link out of it, or version-control "
+                                  "metadata); not read")

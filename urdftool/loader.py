@@ -121,10 +121,12 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
     """Read one robot file into a Source. Raises ToolError when the file cannot be read."""
     options = options or LoadOptions()
     file_path = Path(path)
+    resolver = resolver_for(file_path, options)
+    # refused before asking whether it exists: a committed link out of the repository answers
+    # the same whether or not its target is there (no existence oracle)
+    check_input(file_path, resolver.roots)
     if not file_path.exists():
         raise ToolError(f"{path}: no such file")
-    resolver = resolver_for(file_path, options)
-    check_input(file_path, resolver.roots)
     if options.roots is None:
         options = _with_roots(options, resolver.roots)
     text = read_input(file_path, options)

@@ -88,7 +88,7 @@ def plan(paths: list[str], changed: bool = False) -> tuple[list[Target], set[str
         path = Path(raw)
         if path.is_dir():
             files.extend(robot_files(path))
-        elif path.exists():
+        elif path.exists() or path.is_symlink():  # a dangling link: the loader answers
             if given is None or path.name.endswith(ROBOT_SUFFIXES):
                 files.append(path)  # (changed-files mode: a YAML, a mesh, a launch file only
             if given is not None:  # re-checks the entries that read it: ``triggered``)

@@ -416,7 +416,7 @@ def discover(paths: list[str]) -> list[Path]:
                     included.update(Path(m).name for m in re.findall(_INCLUDE, head))
             found.extend(p for p in in_directory
                          if not (p.suffix == ".xacro" and p.name in included))
-        elif path.exists():
+        elif path.exists() or path.is_symlink():  # a dangling link: the loader answers
             found.append(path)
         else:
             raise ToolError(f"{raw}: no such file or directory")

@@ -54,15 +54,16 @@ def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, 
     if len(paths) != 1:
         raise ToolError("convert takes exactly one MODEL.sdf")
     path = Path(paths[0])
-    if not path.exists():
-        raise ToolError(f"{path}: no such file")
     from urdftool import loader
 
     load = load_options(packages, {})
     load.sdf_model_paths = list(model_paths)  # the operator's: roots of the run
     load.roots = loader.run_roots([path], load)
-    resolver = loader.resolver_for(path, load)  # includes and meshes inside the run's roots
+    # refused before asking whether it exists: a committed link out answers the same either way
     loader.check_input(path, load.roots)
+    if not path.exists():
+        raise ToolError(f"{path}: no such file")
+    resolver = loader.resolver_for(path, load)  # includes and meshes inside the run's roots
     if load.untrusted:
         from urdftool import sandbox
 
