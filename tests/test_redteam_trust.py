@@ -184,3 +184,24 @@ def test_a_committed_link_out_answers_the_same_whether_its_target_exists(command
     assert answers[0].strip() == (f"urdftool: {name}: outside the repository and the "
                                   "operator's directories (a link out of it, or version-control "
                                   "metadata); not read")
+
+
+@pytest.mark.parametrize("target", ["{outside}/inc.xacro", "{repo}/.git/inc.xacro"])
+def test_a_directory_walk_reads_no_xacro_that_links_out(target, tmp_path, monkeypatch):
+    """``sim DIR`` finds robots with ``source.discover``, which reads each xacro's includes to
+    tell fragments from robots: a committed ``.xacro`` link out is not read (its includes
+    would drop a robot of the repository from the walk; its target's content is the
+    machine's), the link itself is kept for the loader to refuse."""
+    from urdftool.source import discover
+
+    repo, outside = _checkout(tmp_path)
+    urdf = repo / "robot_description" / "urdf"
+    (urdf / "r.urdf").write_text('<?xml version="1.0"?>\n<robot name="r"><link name="b"/>'
+                                 '</robot>\n')
+    where = Path(target.format(outside=outside, repo=repo))
+    where.write_text(XACRO.format(body="x").replace(
+        "<link", '<xacro:include filename="r.urdf"/><link'))
+    (urdf / "l.urdf.xacro").symlink_to(where)
+    monkeypatch.chdir(repo)
+    assert discover(["robot_description"]) == [Path("robot_description/urdf/l.urdf.xacro"),
+                                                Path("robot_description/urdf/r.urdf")]
