@@ -307,3 +307,32 @@ def test_model_meshes_of_an_included_model_through_the_model_paths(tmp_path, mon
             assert not [r for r, _ in found[-1] if r.startswith(("mesh.not-found", "sdf.include",
                                                                   "sdf.mesh-uri"))], found
         assert found[0] == found[1]
+
+
+def test_realpaths_are_memoised_for_one_run_only(tmp_path):
+    """``roots.resolved`` keeps a realpath for the run (the corpus asks for the same paths
+    thousands of times); the next run (``loader.run_roots``) asks the file system again, so a
+    link pointed outside the repository between two runs of one process (the editor) is
+    refused in the second."""
+    from urdftool import loader, roots
+
+    repo = tmp_path / "repo"
+    (repo / ".git").mkdir(parents=True)
+    (repo / "meshes").mkdir()
+    (repo / "meshes" / "a.stl").write_text("solid a\nendsolid a\n")
+    outside = tmp_path / "outside.stl"
+    outside.write_text("solid b\nendsolid b\n")
+    link = repo / "link.stl"
+    link.symlink_to(repo / "meshes" / "a.stl")
+    run = loader.run_roots([repo])
+    assert run.readable(link)
+    assert roots.resolved(link) == os.path.realpath(repo / "meshes" / "a.stl")
+    link.unlink()
+    link.symlink_to(outside)
+    assert roots.resolved(link) == os.path.realpath(repo / "meshes" / "a.stl")  # same run
+    run = loader.run_roots([repo])  # a new run
+    assert roots.resolved(link) == os.path.realpath(outside)
+    assert not run.readable(link)
+    relative = os.path.relpath(link)  # relative to the working directory: never kept
+    assert roots.resolved(relative) == os.path.realpath(outside)
+    assert relative not in roots._RESOLVED

@@ -21,7 +21,7 @@ from typing import NamedTuple
 
 from urdftool.errors import ToolError
 from urdftool.files import read_regular
-from urdftool.roots import OutsideRepository, clamp, repository_for
+from urdftool.roots import OutsideRepository, clamp, repository_for, resolved
 
 _SEVERITIES = ("error", "warning", "info")
 
@@ -58,7 +58,7 @@ def find_config(start: Path, memo: dict | None = None) -> tuple[Path, dict] | No
     """The nearest configuration above ``start``: (its file, its table). ``memo`` (directory ->
     what it holds) spares reading the same directories again during one run."""
     memo = memo if memo is not None else {}
-    directory = start.resolve()
+    directory = Path(resolved(start))
     directory = directory if directory.is_dir() else directory.parent
     for parent in (directory, *directory.parents):
         found = memo.get(parent)

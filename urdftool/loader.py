@@ -22,7 +22,14 @@ from pathlib import Path
 
 from urdftool.errors import ToolError
 from urdftool.packages import PackageResolver
-from urdftool.roots import MODEL_VARIABLES, PATH_VARIABLES, Roots, repository_for
+from urdftool.roots import (
+    MODEL_VARIABLES,
+    PATH_VARIABLES,
+    Roots,
+    forget_resolved,
+    repository_for,
+    resolved,
+)
 from urdftool.source import LoadOptions, Source, detect_kind, find_unread, parse_text, read_input
 
 EXAMPLES = Path(__file__).resolve().parent / "physics" / "examples"  # the rule docs' meshes
@@ -53,6 +60,7 @@ def run_roots(paths, options: LoadOptions | None = None, environ=None) -> Roots:
     """The roots of a run over ``paths`` (the files and directories the operator gave),
     memoised per process. ``options.packages`` must be the operator's (-P), not a
     configuration's: call this before the configuration is merged (``check.check_paths``)."""
+    forget_resolved()  # a run starts: realpaths are asked again
     environ = os.environ if environ is None else environ
     operator = operator_paths(options, environ)
     key = (tuple(os.path.abspath(os.fspath(p)) for p in paths), tuple(operator))
@@ -104,7 +112,7 @@ _FILES_READ: set[str] = set()
 def note_read(names) -> None:
     for name in names:
         try:
-            _FILES_READ.add(os.path.realpath(name))
+            _FILES_READ.add(resolved(name))
         except (OSError, ValueError):
             continue
 

@@ -27,6 +27,7 @@ from typing import NamedTuple
 from urdftool.config import find_config, parse_config
 from urdftool.errors import ToolError
 from urdftool.report import FileReport
+from urdftool.roots import resolved
 from urdftool.source import ROBOT_SUFFIXES, shown_path
 
 # what a file that only defines things holds at its top level, once expanded
@@ -239,7 +240,7 @@ def other_inputs(source, robot) -> set[str]:
                     except Exception:  # noqa: BLE001 - an unresolvable URI is the rules' business
                         path = None
                     if path is not None and path.is_file():
-                        found.add(str(path.resolve()))
+                        found.add(resolved(path))
     return found
 
 

@@ -35,9 +35,32 @@ class OutsideRepository(Exception):
         self.value = value
 
 
+_RESOLVED: dict[str, str] = {}  # absolute path as given -> its realpath, during one run
+
+
+def forget_resolved() -> None:
+    """Start a run: the realpaths memoised by ``resolved`` are forgotten (``loader.run_roots``
+    calls it; links may change between runs of one process, as in the editor)."""
+    _RESOLVED.clear()
+
+
+def resolved(path) -> str:
+    """``os.path.realpath`` of ``path``, memoised for the run when ``path`` is absolute (a
+    check asks for the same files and directories thousands of times; the links on the way
+    do not change during a run). OSError when a link on the way cannot be read (not kept)."""
+    name = os.fspath(path)
+    found = _RESOLVED.get(name)
+    if found is None:
+        found = os.path.realpath(name)
+        if os.path.isabs(name):
+            _RESOLVED[name] = found
+    return found
+
+
 def realpath(path) -> Path:
-    """``os.path.realpath``; OSError when a link on the way cannot be read (``/proc/1/root``)."""
-    return Path(os.path.realpath(os.fspath(path)))
+    """``os.path.realpath`` (``resolved``); OSError when a link on the way cannot be read
+    (``/proc/1/root``)."""
+    return Path(resolved(path))
 
 
 def _root(path) -> Path:
