@@ -196,12 +196,11 @@ def test_a_directory_walk_reads_no_xacro_that_links_out(target, tmp_path, monkey
 
     repo, outside = _checkout(tmp_path)
     urdf = repo / "robot_description" / "urdf"
-    (urdf / "r.urdf").write_text('<?xml version="1.0"?>\n<robot name="r"><link name="b"/>'
-                                 '</robot>\n')
+    (urdf / "r.urdf.xacro").write_text(XACRO.format(body="b"))
     where = Path(target.format(outside=outside, repo=repo))
     where.write_text(XACRO.format(body="x").replace(
-        "<link", '<xacro:include filename="r.urdf"/><link'))
+        "<link", '<xacro:include filename="r.urdf.xacro"/><link'))
     (urdf / "l.urdf.xacro").symlink_to(where)
     monkeypatch.chdir(repo)
     assert discover(["robot_description"]) == [Path("robot_description/urdf/l.urdf.xacro"),
-                                                Path("robot_description/urdf/r.urdf")]
+                                                Path("robot_description/urdf/r.urdf.xacro")]

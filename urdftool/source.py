@@ -22,6 +22,7 @@ from urdftool.errors import ToolError
 from urdftool.files import read_regular, read_regular_text
 from urdftool.findings import Finding, Loc
 from urdftool.packages import PackageResolver
+from urdftool.roots import has_vcs_component, repository_for
 from urdftool.textscan import declared_utf8, without_comments
 from urdftool.xmlrepair import repair_and_parse, secure_parser
 
@@ -392,6 +393,15 @@ def quiet_stderr():
 _INCLUDE = r"<(?:xacro:)?include\s[^<>]*filename\s*=\s*[\"']([^\"'<]+)[\"']"
 
 
+def _links_out(path: Path, top: Path) -> bool:
+    """Whether ``path`` is a link resolving outside the repository ``top`` (or into its
+    version-control metadata): not read here (the loader refuses it as an input)."""
+    if not os.path.islink(path):
+        return False
+    target = Path(os.path.realpath(path))
+    return not target.is_relative_to(top) or has_vcs_component(target, top)
+
+
 def discover(paths: list[str]) -> list[Path]:
     """Robot files among paths: files as given, directories searched recursively. In a
     directory, xacro files that another file found there includes are fragments (macros,
@@ -407,8 +417,9 @@ def discover(paths: list[str]) -> list[Path]:
                     if name.endswith(ROBOT_SUFFIXES):
                         in_directory.append(Path(dirpath) / name)
             included: set[str] = set()
+            top = repository_for(path)
             for candidate in in_directory:
-                if candidate.suffix == ".xacro":
+                if candidate.suffix == ".xacro" and not _links_out(candidate, top):
                     try:
                         head = read_regular_text(candidate)
                     except OSError:
