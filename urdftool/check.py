@@ -23,6 +23,7 @@ from urdftool.errors import ToolError
 from urdftool.loader import load, run_roots
 from urdftool.model import build_robot
 from urdftool.package import (
+    Selection,
     Target,
     classify,
     other_inputs,
@@ -57,6 +58,7 @@ class CheckOptions:
     # the output shows the edits of unsafe fixes (--fix, --diff, JSON, SARIF, the editor); text
     # shows only their hints, so the costly ones are not derived (``rules.UNSAFE_EDITS``)
     unsafe_edits: bool = True
+    selection: object = None  # package.Selection: what directories' files are checked
 
 
 LOOKS = 3  # rounds of look-through: a fix can uncover more (a macro call's body)
@@ -317,7 +319,7 @@ def finish(source, robot, diagnostics: list[Diagnostic], texts: dict[str, str]) 
     report.args = {}
     report.includes = tuple(sorted({str(Path(p).resolve()) for p in texts
                                     if p != source.path} | other_inputs(source, robot)))
-    report.role = role(source)
+    report.role = role(source, robot)
     return report
 
 
@@ -384,7 +386,8 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
     # any configuration is read (its packages and entries are clamped inside the repository)
     options.load = copy.copy(options.load)
     options.load.roots = run_roots(paths, options.load)
-    files, given = plan(paths, options.changed)
+    selection = options.selection if options.selection is not None else Selection()
+    files, given = plan(paths, options.changed, selection)
     if not files and given is not None:  # changed files of no package with robot files
         report = Report([], [])
         report.seen = set()
@@ -417,7 +420,7 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
             reports[i] = report
             if given is not None:
                 store_reads(files[i], options.load, report)
-        shown, notes = classify(files, reports, given)
+        shown, notes = classify(files, reports, given, selection)
         report = Report(_one_per_missing_package(merge_repeats(shown)), notes)
         report.seen = seen_files(files, shown, reports, given)
         return report

@@ -6,7 +6,10 @@ Keys: ``select`` and ``ignore`` (lists of rule ids or families), ``strict`` (boo
 ``severity`` (a table rule-id -> error|warning|info), ``entries`` (a list of
 ``{ file = "urdf/robot.urdf.xacro", args = { NAME = "VALUE" } }``: the package's entry points,
 the same file possibly with several argument sets), ``packages`` (a table NAME -> DIR for
-``package://NAME`` and ``$(find NAME)``), ``baseline`` (a baseline file). Paths are relative to
+``package://NAME`` and ``$(find NAME)``), ``baseline`` (a baseline file), ``exclude`` and
+``extend-exclude`` (glob patterns of files and folders not to check, as ruff's: ``exclude``
+replaces the defaults, ``urdftool.package.DEFAULT_EXCLUDE``), ``respect-gitignore`` (bool,
+default true). Paths are relative to
 the configuration file's directory, and must resolve (links followed) inside its repository
 (``urdftool.roots``): a configuration is a repository file, and only the operator widens what a
 run reads (issue 20). Anything else (an unknown key, a wrong type, an unknown rule id, a path
@@ -34,8 +37,8 @@ class Entry(NamedTuple):
 
 
 class Config:
-    __slots__ = ("baseline", "entries", "ignore", "packages", "path", "select", "severity",
-                 "strict")
+    __slots__ = ("baseline", "entries", "exclude", "extend_exclude", "ignore", "packages",
+                 "path", "respect_gitignore", "select", "severity", "strict")
 
     def __init__(self, select: list[str] | None = None, ignore: list[str] | None = None,
                  strict: bool = False, severity: dict[str, str] | None = None,
@@ -49,9 +52,13 @@ class Config:
         self.entries = entries if entries is not None else []
         self.packages = packages if packages is not None else {}  # NAME -> absolute DIR
         self.baseline = baseline
+        self.exclude: list[str] | None = None  # None: the defaults
+        self.extend_exclude: list[str] = []
+        self.respect_gitignore = True
 
 
-KEYS = ("select", "ignore", "strict", "severity", "entries", "packages", "baseline")
+KEYS = ("select", "ignore", "strict", "severity", "entries", "packages", "baseline", "exclude",
+        "extend-exclude", "respect-gitignore")
 
 
 def find_config(start: Path, memo: dict | None = None) -> tuple[Path, dict] | None:
@@ -165,8 +172,21 @@ def parse_config(table: dict, path: Path) -> Config:
                          if baseline is not None else None)
     except OutsideRepository as exc:
         raise ToolError(f"{where}{exc}") from None
-    return Config(strings("select"), strings("ignore"), strict, dict(severity), path, entries,
-                  directories, baseline_path)
+    config = Config(strings("select"), strings("ignore"), strict, dict(severity), path, entries,
+                    directories, baseline_path)
+    for key in ("exclude", "extend-exclude"):
+        value = table.get(key)
+        if value is None:
+            continue
+        if not isinstance(value, list) or not all(isinstance(v, str) and v for v in value):
+            raise ToolError(f'{where}{key} must be a list of glob patterns: {key} = ["vendor", '
+                            '"urdf/generated/*.urdf"]')
+        setattr(config, key.replace("-", "_"), list(value))
+    respect = table.get("respect-gitignore", True)
+    if not isinstance(respect, bool):
+        raise ToolError(f"{where}respect-gitignore must be true or false, not {respect!r}")
+    config.respect_gitignore = respect
+    return config
 
 
 def _entries(value, where: str, base: Path, repository: Path) -> list[Entry]:

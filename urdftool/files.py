@@ -239,3 +239,15 @@ def _find_repository(start: str) -> str:
         if parent == current:
             return start
         current = parent
+
+
+def read_head(path, size: int) -> bytes:
+    """The first ``size`` bytes of a regular file (b"" for anything else: a device, a FIFO, a
+    directory), read without blocking."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    try:
+        if not S_ISREG(os.fstat(fd).st_mode):
+            return b""
+        return os.read(fd, size)
+    finally:
+        os.close(fd)

@@ -1,16 +1,27 @@
 """The xacro arguments a package's launch files pass to its xacro files, read statically: a
 package whose entry needs ``model:=...`` is checked the way its launch file expands it, not
-reported as broken (issue 13).
+reported as broken (issues 13 and 22.2).
 
-Nothing is executed: Python launch files are parsed with ``ast`` and only literals are read
-(``DeclareLaunchArgument(NAME, default_value=...)``, a ``'NAME:='`` followed by a string or a
-``LaunchConfiguration(NAME)`` in the same list, ``mappings={...}`` of ``xacro.process_file``);
-XML launch files (ROS 1 ``.launch``, ROS 2 ``.launch.xml``) with the secure lxml parser
-(``<arg name default>``; none from a file that declares entities; ``NAME:=VALUE`` in the attribute that names the ``.xacro``, with
-``$(arg X)``/``$(var X)`` replaced by X's default). A value that needs anything else (a path
-join, a command) is not passed. The arguments apply to a file when the launch file names its
-``.xacro`` by file name. Launch files are found under the package's ``launch/`` directory, at
-most ``MAX_FILES`` of at most ``MAX_BYTES`` each.
+Nothing is executed. Python launch files are parsed with ``ast``, XML launch files (ROS 1
+``.launch``, ROS 2 ``.launch.xml``) with the secure lxml parser (none from a file that declares
+entities). A launch file's xacro invocations are found and resolved as launch resolves them:
+
+- an invocation: a ``Command([...])``-style list or string (``xacro FILE NAME:=VALUE ...``),
+  ``xacro.process_file(FILE, mappings={...})``, or an XML attribute naming a ``.xacro``;
+- values are literals, launch arguments (``LaunchConfiguration(NAME)``, ``$(arg NAME)``,
+  ``$(var NAME)``) bound to their defaults (a quoted empty default, ``'""'``, is empty),
+  variables assigned once anywhere in the file, ``+``, f-strings, ``PathJoinSubstitution``,
+  ``os.path.join``, ``FindPackageShare``/``$(find)`` of the package itself;
+- an XML launch file that other launch files include (``<include file>``, with ``<arg name
+  value>`` or ``pass_all_args``) is resolved once per includer, with what each passes; a
+  required Python launch argument with ``choices`` once per choice;
+- the file name is matched against the package's xacro files: a launch argument left unbound
+  in it (``robot_$(arg model).urdf.xacro``) matches any text, and each file it matches is its
+  own entry, with the matched text as that argument.
+
+A value that needs anything else (a command's output, an environment variable) is not passed.
+Launch files are found under the package's ``launch/`` directory, at most ``MAX_FILES`` of at
+most ``MAX_BYTES`` each.
 """
 
 from __future__ import annotations
@@ -23,32 +34,52 @@ from urdftool.files import read_regular_text
 
 MAX_FILES = 64
 MAX_BYTES = 256 * 1024
-MAX_SETS = 8  # argument sets per xacro file
-_MAPPING = re.compile(r"(?<![\w$])([A-Za-z_]\w*):=(\S*)")
-_SUBSTITUTION = re.compile(r"\$\((?:arg|var) ([A-Za-z_]\w*)\)")
-# a name starts where a run of name characters starts (one try per run: linear)
-_XACRO_NAME = re.compile(r"(?<![\w.-])[\w.-]+\.xacro\b")
+MAX_SETS = 12  # argument sets per xacro file
+MAX_XACROS = 4000  # xacro files of a package matched against the launch files' names
+_SUBSTITUTION = re.compile(r"\$\((arg|var|find|find-pkg-share|dirname|env|optenv|eval|anon)"
+                           r"\s*([^)]*)\)")
+_PAIR = re.compile(r"([A-Za-z_]\w*):=(.*)", re.DOTALL)
+
+# a value: a list of parts, each a literal string, ("arg", NAME), ("pkg", NAME) or ANY
+ANY = ("any", "")
 
 
 def launch_arguments(root: Path) -> dict[str, list[tuple[dict[str, str], str]]]:
-    """xacro file name -> the distinct argument sets the launch files under ``root/launch``
-    pass to it, each with the launch file's path (relative to ``root``)."""
+    """xacro file (posix path relative to ``root``) -> the distinct argument sets the launch
+    files under ``root/launch`` pass to it, each with the launch file's path (relative to
+    ``root``)."""
     found: dict[str, list[tuple[dict[str, str], str]]] = {}
     directory = root / "launch"
     if directory.is_symlink() or not directory.is_dir():
         return found  # nothing outside the package is read
     files = sorted(p for p in directory.rglob("*") if _is_launch(p))[:MAX_FILES]
+    texts = {}
     for path in files:
         try:
-            text = read_regular_text(path, MAX_BYTES)
+            texts[path] = read_regular_text(path, MAX_BYTES)
         except OSError:  # larger than MAX_BYTES, not a regular file, unreadable
             continue
-        read = _python if path.suffix == ".py" else _xml
-        for name, args in read(text):
-            sets = found.setdefault(name, [])
-            if args and all(args != known for known, _ in sets) and len(sets) < MAX_SETS:
-                sets.append((args, path.relative_to(root).as_posix()))
-    return found
+    if not texts:
+        return found
+    package = _package_name(root)
+    xacros = _xacro_files(root)
+    xml = {path: _XmlLaunch(text) for path, text in texts.items() if path.suffix != ".py"}
+    for path, text in texts.items():
+        where = path.relative_to(root).as_posix()
+        if path.suffix == ".py":
+            commands = _python(text)
+        else:
+            commands = [(parts, binding) for binding in _xml_bindings(path, xml)
+                        for parts in xml[path].commands]
+        for parts, binding in commands:
+            invocation = _invocation(_tokens(parts), binding)
+            if invocation is None:
+                continue
+            for rel, args in _resolve(invocation, binding, xacros, package, root):
+                sets = found.setdefault(rel, [])
+                if all(args != known for known, _ in sets) and len(sets) < MAX_SETS:
+                    sets.append((args, where))
+    return {rel: [s for s in sets if s[0]] for rel, sets in found.items() if any(a for a, _ in sets)}
 
 
 def _is_launch(path: Path) -> bool:
@@ -58,42 +89,313 @@ def _is_launch(path: Path) -> bool:
         or (name.endswith(".py") and "launch" in name))
 
 
+def _package_name(root: Path) -> str | None:
+    try:
+        text = read_regular_text(root / "package.xml", 1 << 20)
+    except OSError:
+        return None
+    match = re.search(r"<name>\s*([^<\s]+)\s*</name>", text)
+    return match.group(1) if match else None
+
+
+def _xacro_files(root: Path) -> list[str]:
+    found = []
+    for path in sorted(root.rglob("*.xacro")):
+        if len(found) >= MAX_XACROS:
+            break
+        if any(part.startswith(".") for part in path.relative_to(root).parts):
+            continue
+        found.append(path.relative_to(root).as_posix())
+    return found
+
+
+# -- from a file name and NAME:=VALUE pairs to argument sets -------------------------------------
+
+
+def _tokens(parts: list) -> list[list]:
+    """Parts split at whitespace in their literals (a command line's words)."""
+    tokens: list[list] = [[]]
+    for part in parts:
+        if isinstance(part, str):
+            pieces = re.split(r"(\s+)", part)
+            for piece in pieces:
+                if not piece:
+                    continue
+                if piece.isspace():
+                    if tokens[-1]:
+                        tokens.append([])
+                else:
+                    tokens[-1].append(piece)
+        else:
+            tokens[-1].append(part)
+    return [t for t in tokens if t]
+
+
+def _invocation(tokens: list[list], binding: dict[str, list],
+                ) -> tuple[list, dict[str, list]] | None:
+    """(the file name's parts, NAME -> value parts) of one xacro command line, or None when
+    no word names a ``.xacro`` (a launch argument's value counts: ``xacro
+    $(arg description_file)``)."""
+    file = None
+    pairs: dict[str, list] = {}
+    for token in tokens:
+        head = token[0] if isinstance(token[0], str) else ""
+        match = _PAIR.fullmatch(head) if head else None
+        if match:
+            value = ([match.group(2)] if match.group(2) else []) + token[1:]
+            pairs[match.group(1)] = value
+        elif file is None and _ends_with_xacro(token, binding, 0):
+            file = token
+    return (file, pairs) if file is not None else None
+
+
+def _ends_with_xacro(token: list, binding: dict[str, list], depth: int) -> bool:
+    last = token[-1] if token else None
+    if isinstance(last, str):
+        return last.rstrip("'\"").endswith(".xacro")
+    if last is not None and last[0] == "arg" and last[1] in binding and depth < 8:
+        return _ends_with_xacro(binding[last[1]], binding, depth + 1)
+    return False
+
+
+def _resolve(invocation, binding: dict[str, list], xacros: list[str], package: str | None,
+             root: Path):
+    """(xacro file, args) for every package xacro file the invocation's file name matches."""
+    file, pairs = invocation
+    regex, groups = _file_regex(file, binding, package)
+    if regex is None:
+        return
+    compiled = re.compile(regex)
+    for rel in xacros:
+        match = compiled.fullmatch(rel)
+        if match is None:
+            continue
+        bound = dict(binding)
+        for group, name in groups.items():
+            bound[name] = [match.group(group)]
+        args = {}
+        for name, value in pairs.items():
+            text = _text(value, bound, package, root, 0)
+            if text is not None:
+                args[name] = text
+        yield rel, args
+
+
+def _file_regex(parts: list, binding: dict[str, list], package: str | None,
+                depth: int = 0) -> tuple[str | None, dict[str, str]]:
+    """A regular expression over paths relative to the package root, and its named groups
+    (group -> launch argument)."""
+    pieces: list[str] = []
+    groups: dict[str, str] = {}
+    anchored = False
+
+    def add(part, level: int) -> bool:
+        nonlocal anchored
+        if isinstance(part, str):
+            pieces.append(re.escape(part.strip("'\"")))
+        elif part[0] == "pkg":
+            if package is not None and part[1] != package:
+                return False  # another package's file
+            pieces.clear()
+            anchored = True
+        elif part[0] == "arg" and part[1] in binding and level < 8:
+            return all(add(p, level + 1) for p in binding[part[1]])
+        elif part[0] == "arg" and part[1] not in groups.values():
+            group = f"g{len(groups)}"
+            groups[group] = part[1]
+            pieces.append(f"(?P<{group}>[^/]+?)")
+        elif part[0] == "arg":
+            group = next(g for g, n in groups.items() if n == part[1])
+            pieces.append(f"(?P={group})")
+        else:
+            pieces.append("[^/]*")
+        return True
+
+    if not all(add(part, depth) for part in parts):
+        return None, {}
+    text = "".join(pieces).lstrip("/")
+    text = re.sub(r"(\\/)+", "/", text).lstrip("/")
+    if not anchored:  # a bare name or a relative path: anywhere in the package
+        text = "(?:.*/)?" + text
+    return text, groups
+
+
+def _text(value: list, binding: dict[str, list], package: str | None, root: Path,
+          depth: int) -> str | None:
+    """A value's text under ``binding``, or None when a part cannot be known."""
+    out = []
+    for part in value:
+        if isinstance(part, str):
+            out.append(part)
+        elif part[0] == "arg" and part[1] in binding and depth < 8:
+            text = _text(binding[part[1]], binding, package, root, depth + 1)
+            if text is None:
+                return None
+            out.append(text)
+        elif part[0] == "pkg" and package is not None and part[1] == package:
+            out.append(str(root))
+        else:
+            return None
+    return _unquote("".join(out).strip())
+
+
+def _unquote(text: str) -> str:
+    """A launch value as the shell-like command line reads it: ``'""'`` and ``"''"`` are
+    empty, surrounding quotes dropped."""
+    while len(text) >= 2 and text[0] == text[-1] and text[0] in "'\"":
+        text = text[1:-1]
+    return text
+
+
 # -- Python launch files ------------------------------------------------------------------------
 
 
-def _python(text: str) -> list[tuple[str, dict[str, str]]]:
+def _python(text: str) -> list[tuple[list, dict[str, list]]]:
+    """(command line parts, launch argument binding) of every xacro invocation."""
     try:
         tree = ast.parse(text)
     except (SyntaxError, ValueError, RecursionError, MemoryError):
         return []
-    defaults: dict[str, object] = {}
-    names: set[str] = set()
-    pairs: list[tuple[str, object]] = []
+    reader = _PythonLaunch(tree)
+    commands: list[list] = []
+    seen = set()
     for node in ast.walk(tree):
-        if isinstance(node, ast.Call):
-            called = _called(node)
-            if called == "DeclareLaunchArgument":
-                name = _string(node.args[0]) if node.args else _keyword(node, "name")
-                default = _keyword_node(node, "default_value")
-                if isinstance(name, str) and default is not None:
-                    defaults[name] = default
+        parts = None
+        if isinstance(node, ast.Call) and _called(node) == "process_file" and node.args:
+            parts = reader.value(node.args[0])
             mappings = _keyword_node(node, "mappings")
-            if isinstance(mappings, ast.Dict):
-                pairs.extend(_dict_pairs(mappings))
-            elif "urdf" in called.lower() or "xacro" in called.lower():
-                for arg in node.args:
-                    if isinstance(arg, ast.Dict):
-                        pairs.extend(_dict_pairs(arg))
-        elif isinstance(node, ast.Constant) and isinstance(node.value, str):
-            names.update(_XACRO_NAME.findall(node.value))
+            if parts is not None and isinstance(mappings, ast.Dict):
+                for key, value in zip(mappings.keys, mappings.values):
+                    name = reader.value(key) if key is not None else None
+                    resolved = reader.value(value)
+                    if name and all(isinstance(p, str) for p in name) and resolved is not None:
+                        parts = [*parts, " ", "".join(name) + ":=", *resolved]
+        elif isinstance(node, (ast.List, ast.Tuple)) or (
+                isinstance(node, ast.Constant) and isinstance(node.value, str)
+                and ".xacro" in node.value):
+            parts = reader.value(node)
+        if parts is not None and repr(parts) not in seen:
+            seen.add(repr(parts))
+            commands.append(parts)
+    bindings = reader.bindings()
+    return [(parts, binding) for parts in commands for binding in bindings]
+
+
+class _PythonLaunch:
+    """What a Python launch file says, statically: its launch arguments' defaults and
+    choices, and its variables assigned once."""
+
+    def __init__(self, tree):
+        self.tree = tree
+        self.assigned: dict[str, list] = {}
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(
+                    node.targets[0], ast.Name):
+                self.assigned.setdefault(node.targets[0].id, []).append(node.value)
+            elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name) \
+                    and node.value is not None:
+                self.assigned.setdefault(node.target.id, []).append(node.value)
+        self.defaults: dict[str, list] = {}
+        self.choices: dict[str, list[str]] = {}
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Call) and _called(node) == "DeclareLaunchArgument":
+                name_node = node.args[0] if node.args else _keyword_node(node, "name")
+                name = self.value(name_node) if name_node is not None else None
+                if not name or not all(isinstance(p, str) for p in name):
+                    continue
+                name = "".join(name)
+                default = _keyword_node(node, "default_value")
+                if default is not None:
+                    resolved = self.value(default, stop=name)
+                    if resolved is not None:
+                        self.defaults[name] = resolved
+                choices = _keyword_node(node, "choices")
+                if isinstance(choices, (ast.List, ast.Tuple)):
+                    values = [_string(c) for c in choices.elts]
+                    if values and all(v is not None for v in values):
+                        self.choices[name] = values
+
+    def value(self, node, depth: int = 0, stop: str | None = None) -> list | None:
+        """A node's value as parts, or None when it cannot be known statically."""
+        if depth > 16 or node is None:
+            return None
+        if isinstance(node, ast.Constant):
+            if isinstance(node.value, str):
+                return [node.value]
+            if isinstance(node.value, (int, float)) and not isinstance(node.value, bool):
+                return [str(node.value)]
+            return None
+        if isinstance(node, ast.Name):
+            values = self.assigned.get(node.id, [])
+            if len(values) != 1:  # a parameter, or assigned several times: not known
+                return None
+            return self.value(values[0], depth + 1)
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Add):
+            left, right = self.value(node.left, depth + 1), self.value(node.right, depth + 1)
+            return left + right if left is not None and right is not None else None
+        if isinstance(node, ast.JoinedStr):
+            parts: list = []
+            for piece in node.values:
+                value = self.value(piece.value if isinstance(piece, ast.FormattedValue)
+                                   else piece, depth + 1)
+                if value is None:
+                    return None
+                parts.extend(value)
+            return parts
         if isinstance(node, (ast.List, ast.Tuple)):
-            pairs.extend(_list_pairs(node.elts))
-    args = {}
-    for name, value in pairs:
-        resolved = _value(value, defaults, 0)
-        if resolved is not None:
-            args[name] = resolved
-    return [(name, args) for name in sorted(names)]
+            parts = []
+            for element in node.elts:
+                value = self.value(element, depth + 1)
+                parts.extend(value if value is not None else [ANY])
+            return parts
+        if isinstance(node, ast.Call):
+            return self._call(node, depth, stop)
+        return None
+
+    def _call(self, node: ast.Call, depth: int, stop: str | None) -> list | None:
+        called = _called(node)
+        first = node.args[0] if node.args else next(
+            (k.value for k in node.keywords if k.arg in ("package", "name", "text",
+                                                          "variable_name")), None)
+        if called == "LaunchConfiguration" and first is not None:
+            name = self.value(first, depth + 1)
+            if name and all(isinstance(p, str) for p in name):
+                return [("arg", "".join(name))]
+            return None
+        if called in ("PathJoinSubstitution", "join") and node.args:
+            items = first.elts if called == "PathJoinSubstitution" and isinstance(
+                first, (ast.List, ast.Tuple)) else node.args
+            parts = []
+            for index, item in enumerate(items):
+                value = self.value(item, depth + 1)
+                if value is None:
+                    return None
+                parts.extend(([] if index == 0 else ["/"]) + value)
+            return parts
+        if called in ("FindPackageShare", "get_package_share_directory",
+                      "get_package_share_path", "FindPackagePrefix", "find") \
+                and first is not None:  # (the last: FindPackageShare(...).find(NAME))
+            name = self.value(first, depth + 1)
+            if name and all(isinstance(p, str) for p in name):
+                return [("pkg", "".join(name))]
+            return None
+        if called in ("TextSubstitution",):
+            return self.value(_keyword_node(node, "text") or first, depth + 1)
+        if called in ("Command", "str", "ParameterValue") and first is not None:
+            return self.value(first, depth + 1)
+        if called == "FindExecutable":
+            return [ANY]
+        return None
+
+    def bindings(self) -> list[dict[str, list]]:
+        """The launch arguments' values: their defaults; a required one with choices, once
+        per choice (at most MAX_SETS bindings)."""
+        bindings = [dict(self.defaults)]
+        for name, values in self.choices.items():
+            if name in self.defaults:
+                continue
+            bindings = [{**b, name: [v]} for b in bindings for v in values][:MAX_SETS]
+        return bindings
 
 
 def _called(node: ast.Call) -> str:
@@ -109,46 +411,48 @@ def _keyword_node(node: ast.Call, name: str):
     return next((k.value for k in node.keywords if k.arg == name), None)
 
 
-def _keyword(node: ast.Call, name: str) -> str | None:
-    return _string(_keyword_node(node, name))
-
-
-def _dict_pairs(node: ast.Dict) -> list[tuple[str, object]]:
-    return [(key.value, value) for key, value in zip(node.keys, node.values)
-            if isinstance(key, ast.Constant) and isinstance(key.value, str)]
-
-
-def _list_pairs(elements: list) -> list[tuple[str, object]]:
-    """'NAME:=VALUE' in one string, or 'NAME:=' (or ' NAME:=') followed by its value."""
-    pairs: list[tuple[str, object]] = []
-    for index, element in enumerate(elements):
-        text = _string(element)
-        if text is None:
-            continue
-        for name, value in _MAPPING.findall(text):
-            if value:
-                pairs.append((name, ast.Constant(value)))
-            elif text.rstrip().endswith(":=") and index + 1 < len(elements):
-                pairs.append((name, elements[index + 1]))
-    return pairs
-
-
-def _value(node, defaults: dict[str, object], depth: int) -> str | None:
-    """A literal string, or a LaunchConfiguration(NAME) whose default is one."""
-    text = _string(node)
-    if text is not None:
-        return text.strip() if _SUBSTITUTION.search(text) is None else None
-    if isinstance(node, ast.Call) and _called(node) == "LaunchConfiguration" and node.args:
-        name = _string(node.args[0])
-        if name in defaults and depth < 8:
-            return _value(defaults[name], defaults, depth + 1)
-    return None
-
-
 # -- XML launch files ---------------------------------------------------------------------------
 
 
-def _xml(text: str) -> list[tuple[str, dict[str, str]]]:
+class _XmlLaunch:
+    """An XML launch file: its arguments (defaults, fixed values), the launch files it
+    includes with what it passes them, and the attributes that name a xacro file."""
+
+    def __init__(self, text: str):
+        self.defaults: dict[str, list] = {}
+        self.fixed: set[str] = set()
+        self.includes: list[tuple[str, dict[str, list], bool]] = []
+        self.commands: list[list] = []  # the parts of every attribute naming a .xacro
+        root = _parse_xml(text)
+        if root is None:
+            return
+        for arg in root.iter("arg"):
+            parent = arg.getparent()
+            if parent is not None and parent.tag == "include":
+                continue
+            name = arg.get("name")
+            value = arg.get("value", arg.get("default"))
+            if name and value is not None:
+                self.defaults[name] = _xml_parts(value)
+                if arg.get("value") is not None:
+                    self.fixed.add(name)
+        for include in root.iter("include"):
+            file = include.get("file", "")
+            passed = {a.get("name"): _xml_parts(a.get("value", a.get("default", "")))
+                      for a in include.iter("arg") if a.get("name")}
+            all_args = include.get("pass_all_args", "").strip().lower() in ("true", "1")
+            name = re.split(r"[/)]", file)[-1].strip()
+            if name:
+                self.includes.append((name, passed, all_args))
+        for element in root.iter():
+            if not isinstance(element.tag, str) or element.tag in ("arg", "include"):
+                continue
+            for value in element.attrib.values():
+                if ".xacro" in value:
+                    self.commands.append(_xml_parts(value))
+
+
+def _parse_xml(text: str):
     from lxml import etree
 
     from urdftool.xmlrepair import secure_parser
@@ -156,27 +460,66 @@ def _xml(text: str) -> list[tuple[str, dict[str, str]]]:
     try:
         root = etree.fromstring(text.encode("utf-8"), secure_parser())
     except (etree.XMLSyntaxError, ValueError):
-        return []
+        return None
     if root is None:
-        return []
+        return None
     info = root.getroottree().docinfo
     if info.system_url or info.public_id or (
             info.internalDTD is not None and any(info.internalDTD.iterentities())):
-        return []  # entities are never expanded: the file is not read (as xacro does)
-    defaults = {a.get("name"): a.get("default", a.get("value")) for a in root.iter("arg")
-                if a.get("name") and a.get("default", a.get("value")) is not None}
-    found = []
-    for element in root.iter():
-        if not isinstance(element.tag, str):
+        return None  # entities are never expanded: the file is not read (as xacro does)
+    return root
+
+
+def _xml_parts(value: str) -> list:
+    """``$(arg X)``/``$(var X)`` as launch arguments, ``$(find P)`` as a package, any other
+    substitution unknown."""
+    parts: list = []
+    last = 0
+    for match in _SUBSTITUTION.finditer(value):
+        if match.start() > last:
+            parts.append(value[last:match.start()])
+        kind, name = match.group(1), match.group(2).strip()
+        if kind in ("arg", "var"):
+            parts.append(("arg", name))
+        elif kind in ("find", "find-pkg-share"):
+            parts.append(("pkg", name))
+        else:
+            parts.append(ANY)
+        last = match.end()
+    if last < len(value):
+        parts.append(value[last:])
+    return parts
+
+
+def _xml_bindings(path: Path, launches: dict[Path, _XmlLaunch]) -> list[dict[str, list]]:
+    """The argument values a launch file runs with: its defaults; when other launch files
+    include it, once per includer, with what that one passes (resolved in the includer's
+    own defaults)."""
+    own = launches[path]
+    bindings = []
+    for other_path, other in launches.items():
+        if other_path == path:
             continue
-        for value in element.attrib.values():
-            names = _XACRO_NAME.findall(value)
-            if not names:
+        for name, passed, all_args in other.includes:
+            if name != path.name:
                 continue
-            args = {}
-            for name, raw in _MAPPING.findall(_SUBSTITUTION.sub(
-                    lambda m: defaults.get(m.group(1)) or m.group(0), value)):
-                if raw and "$(" not in raw:
-                    args[name] = raw.strip("'\"")
-            found.extend((name, args) for name in names)
-    return found
+            outer = dict(other.defaults)
+            binding = dict(own.defaults)
+            if all_args:
+                binding.update({k: v for k, v in outer.items() if k not in own.fixed})
+            for key, value in passed.items():
+                if key not in own.fixed:
+                    binding[key] = _bind(value, outer)
+            bindings.append(binding)
+    return bindings[:MAX_SETS] if bindings else [dict(own.defaults)]
+
+
+def _bind(value: list, outer: dict[str, list], depth: int = 0) -> list:
+    """``value`` with the includer's arguments replaced by their values."""
+    parts: list = []
+    for part in value:
+        if isinstance(part, tuple) and part[0] == "arg" and part[1] in outer and depth < 8:
+            parts.extend(_bind(outer[part[1]], outer, depth + 1))
+        else:
+            parts.append(part)
+    return parts

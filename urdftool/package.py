@@ -20,12 +20,15 @@ given files are reported; how many lie elsewhere is said in a note.
 
 from __future__ import annotations
 
+import fnmatch
 import os
+import re
 from pathlib import Path
 from typing import NamedTuple
 
 from urdftool.config import find_config, parse_config
 from urdftool.errors import ToolError
+from urdftool.files import read_head, read_regular
 from urdftool.report import FileReport
 from urdftool.roots import resolved
 from urdftool.source import ROBOT_SUFFIXES, shown_path
@@ -34,7 +37,8 @@ from urdftool.source import ROBOT_SUFFIXES, shown_path
 DEFINITION_TAGS = frozenset({"material", "gazebo", "ros2_control", "transmission",
                              "property", "macro", "include", "arg"})  # the last: old unprefixed xacro
 # rules (or families) that need the whole robot: never run on a fragment alone
-ALONE_SKIPS = ("structure", "gazebo", "transmission", "mimic", "material.undefined")
+ALONE_SKIPS = ("structure", "gazebo", "transmission", "mimic", "material.undefined",
+               "geometry.no-collision", "inertia.kinematics-only")  # the last: robot-wide
 
 
 class Target(NamedTuple):
@@ -47,15 +51,262 @@ class Target(NamedTuple):
     args_from: str = ""  # the launch file the arguments were read from (urdftool.launch)
 
 
-def robot_files(directory: Path) -> list[Path]:
-    """Every ``*.urdf``, ``*.xacro``, ``*.sdf`` under ``directory`` (hidden ones skipped),
-    in a stable order."""
+IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")  # colcon/ament/catkin
+# skipped unless --exclude replaces them (as ruff's defaults): hidden directories (.git...) and
+# what a colcon workspace builds next to its sources (copies of the descriptions)
+DEFAULT_EXCLUDE = (".*", "build", "install", "log", "__pycache__", "node_modules")
+# folders of test data: what is under them is a fixture, not a robot of the package
+TEST_DIRS = frozenset({"test", "tests", "testing", "test_data", "testdata", "fixtures"})
+ROBOT_ROOTS = frozenset({"robot", "sdf"})  # the root elements a robot file has
+HEAD_BYTES = 64 * 1024  # read to find a file's root element
+
+
+class Selection:
+    """Which files under a given directory are checked (issue 23.3), with ruff's names and
+    semantics: ``exclude`` (the command line's ``--exclude`` replaces the configuration's, which
+    replaces ``DEFAULT_EXCLUDE``) plus every ``extend-exclude``; gitignore-style globs (a
+    pattern without a slash matches a file or folder name at any depth, one with a slash is
+    anchored where it was written: the configuration's directory, or the working directory
+    for the command line). Folders holding a ``COLCON_IGNORE``/``AMENT_IGNORE``/
+    ``CATKIN_IGNORE`` file, and (``respect_gitignore``) what the ``.gitignore`` files of the
+    git work tree and its ``.git/info/exclude`` ignore are skipped. Files given by name are
+    always checked. Global git excludes are not read: the verdict must not depend on the
+    machine (one verdict on a laptop and a CI runner)."""
+
+    def __init__(self, exclude: list[str] | None = None, extend_exclude: list[str] = (),
+                 respect_gitignore: bool | None = None, base: Path | None = None):
+        self.exclude = list(exclude) if exclude is not None else None  # --exclude
+        self.extend_exclude = list(extend_exclude)
+        self.respect_gitignore = respect_gitignore  # None: the configuration's (else True)
+        self.base = (base or Path.cwd()).resolve()
+        self.skipped: dict[str, int] = {}  # reason -> robot files skipped
+        self._matched: set[tuple[str, str]] = set()  # (where, pattern) that matched something
+        self._given: list[tuple[str, str]] = []  # (where, pattern) to report when unused
+        self._specs: dict = {}  # (base, pattern) -> compiled
+        self._gitignores: dict[Path, object] = {}  # directory -> its compiled .gitignore
+        self.walked = False  # a directory was searched (the run's roles are then counted)
+
+    def patterns(self, config) -> list[tuple[Path, str, str]]:
+        """(base, pattern, where it was written) of every exclusion that applies under
+        ``config`` (None: no configuration)."""
+        found = []
+        cli = [(self.base, p, "--exclude") for p in self.exclude] if self.exclude is not None \
+            else None
+        if cli is None and config is not None and config.exclude is not None:
+            cli = [(config.path.parent, p, f"{config.path.name}: exclude")
+                   for p in config.exclude]
+        found.extend(cli if cli is not None else
+                     [(self.base, p, "") for p in DEFAULT_EXCLUDE])
+        if config is not None:
+            found.extend((config.path.parent, p, f"{config.path.name}: extend-exclude")
+                         for p in config.extend_exclude)
+        found.extend((self.base, p, "--extend-exclude") for p in self.extend_exclude)
+        for _, pattern, where in found:
+            if where and (where, pattern) not in self._given:
+                self._given.append((where, pattern))
+        return found
+
+    def gitignore(self, config) -> bool:
+        if self.respect_gitignore is not None:
+            return self.respect_gitignore
+        return config.respect_gitignore if config is not None else True
+
+    def excluded(self, path: Path, patterns, is_dir: bool) -> bool:
+        """Whether ``path`` matches one of ``patterns`` (recorded as used)."""
+        hit = False
+        for base, pattern, where in patterns:
+            if _glob_matches(self._spec(pattern), path, base, is_dir, pattern):
+                hit = True
+                if where:
+                    self._matched.add((where, pattern))
+        return hit
+
+    def _spec(self, pattern: str):
+        spec = self._specs.get(pattern)
+        if spec is None:
+            if "/" not in pattern.rstrip("/") and not any(c in pattern for c in "[]\\"):
+                spec = self._specs[pattern] = ("name", pattern.rstrip("/"))
+            else:
+                import pathspec
+
+                spec = self._specs[pattern] = ("glob", pathspec.GitIgnoreSpec.from_lines(
+                    [pattern]))
+        return spec
+
+    def ignored_by_git(self, path: Path, is_dir: bool, top: Path | None) -> bool:
+        """Whether the ``.gitignore`` files between ``top`` (the work tree) and ``path``
+        (and ``top/.git/info/exclude``) ignore ``path``: the deepest file that has a say
+        decides, as git does."""
+        if top is None:
+            return False
+        resolved = path.resolve()
+        try:
+            rel = resolved.relative_to(top)
+        except ValueError:
+            return False
+        decision = None
+        directory = top
+        layers = [(top, self._gitignore_of(top / ".git" / "info" / "exclude", top))]
+        for part in rel.parts[:-1]:
+            layers.append((directory, self._gitignore_of(directory / ".gitignore", directory)))
+            directory = directory / part
+        layers.append((directory, self._gitignore_of(directory / ".gitignore", directory)))
+        for base, spec in layers:
+            if spec is None:
+                continue
+            name = resolved.relative_to(base).as_posix() + ("/" if is_dir else "")
+            result = spec.check_file(name)
+            if result.include is not None:
+                decision = result.include
+        return bool(decision)
+
+    def _gitignore_of(self, file: Path, base: Path):
+        key = file
+        if key not in self._gitignores:
+            spec = None
+            try:
+                text = read_regular(file, 1 << 20).decode("utf-8", errors="replace")
+            except OSError:
+                text = ""
+            if text.strip():
+                import pathspec
+
+                spec = pathspec.GitIgnoreSpec.from_lines(text.splitlines())
+            self._gitignores[key] = spec
+        return self._gitignores[key]
+
+    def skip(self, reason: str, count: int = 1) -> None:
+        self.skipped[reason] = self.skipped.get(reason, 0) + count
+
+    def unused(self) -> list[str]:
+        """Warnings: the exclude patterns that matched nothing."""
+        return [f"warning: {where} pattern {pattern!r} matches nothing"
+                for where, pattern in self._given if (where, pattern) not in self._matched]
+
+
+def _glob_matches(spec, path: Path, base: Path, is_dir: bool, pattern: str) -> bool:
+    kind, value = spec
+    if kind == "name":
+        if pattern.endswith("/") and not is_dir:
+            return False
+        return fnmatch.fnmatchcase(path.name, value)
+    try:
+        rel = path.resolve().relative_to(base.resolve()).as_posix()
+    except ValueError:
+        return False  # an anchored pattern never matches outside where it was written
+    return bool(value.match_file(rel + ("/" if is_dir else "")))
+
+
+def skipped_alone(file: Path, selection: Selection, memo: dict) -> bool:
+    """Whether a file given by name (changed-files mode) lies where ``robot_files`` would not
+    look: excluded, under an ignore marker, git-ignored, or a fixture of its package."""
+    config = _config_of(file, memo)
+    patterns = selection.patterns(config)
+    top = git_top(file.parent) if selection.gitignore(config) else None
+    root = package_root(file)
+    stop = top if top is not None and top in root.parents else root
+    if selection.excluded(file, patterns, False):
+        return True
+    for folder in file.resolve().parents:
+        if any((folder / marker).exists() for marker in IGNORE_MARKERS) or (
+                folder != stop and selection.excluded(folder, patterns, True)):
+            return True
+        if folder == stop or folder == folder.parent:
+            break
+    if top is not None and selection.ignored_by_git(file, False, top):
+        return True
+    return file.name.endswith(ROBOT_SUFFIXES) and fixture_reason(file.resolve(), root) is not None
+
+
+def git_top(directory: Path) -> Path | None:
+    """The git work tree ``directory`` is in (a ``.git`` beside it or above), or None."""
+    directory = directory.resolve()
+    for parent in (directory, *directory.parents):
+        if (parent / ".git").exists():
+            return parent
+    return None
+
+
+def robot_files(directory: Path, selection: Selection | None = None,
+                memo: dict | None = None) -> list[Path]:
+    """Every ``*.urdf``, ``*.xacro``, ``*.sdf`` under ``directory`` that ``selection``
+    keeps (default: ``DEFAULT_EXCLUDE``, the ignore markers, ``.gitignore``), in a stable
+    order. What is skipped is counted in ``selection.skipped``."""
+    selection = selection if selection is not None else Selection()
+    memo = memo if memo is not None else {}
+    top = None
     found = []
     for dirpath, dirnames, filenames in os.walk(directory):
-        dirnames[:] = sorted(d for d in dirnames if not d.startswith("."))
-        found.extend(Path(dirpath) / name for name in sorted(filenames)
-                     if name.endswith(ROBOT_SUFFIXES))
+        here = Path(dirpath)
+        config = _config_of(here, memo)
+        patterns = selection.patterns(config)
+        gitignore = selection.gitignore(config)
+        if gitignore and top is None:
+            top = memo.setdefault("git", {}).setdefault(str(directory), git_top(directory)) \
+                or False
+        if here != Path(directory) and any(m in filenames for m in IGNORE_MARKERS):
+            selection.skip("ignored (COLCON_IGNORE, AMENT_IGNORE, CATKIN_IGNORE)",
+                           _count_robot_files(here))
+            dirnames[:] = []
+            continue
+        kept = []
+        for name in sorted(dirnames):
+            sub = here / name
+            if selection.excluded(sub, patterns, True):
+                selection.skip("excluded", _count_robot_files(sub))
+            elif gitignore and top and selection.ignored_by_git(sub, True, top):
+                selection.skip("git-ignored", _count_robot_files(sub))
+            else:
+                kept.append(name)
+        dirnames[:] = kept
+        for name in sorted(filenames):
+            if not name.endswith(ROBOT_SUFFIXES):
+                continue
+            file = here / name
+            if selection.excluded(file, patterns, False):
+                selection.skip("excluded")
+            elif gitignore and top and selection.ignored_by_git(file, False, top):
+                selection.skip("git-ignored")
+            else:
+                found.append(file)
     return found
+
+
+def _count_robot_files(directory: Path) -> int:
+    return sum(name.endswith(ROBOT_SUFFIXES) for _, _, names in os.walk(directory)
+               for name in names)
+
+
+def fixture_reason(file: Path, directory: Path) -> str | None:
+    """Why a file found under ``directory`` is a test fixture or not a robot file at all
+    (checked neither as a robot nor as a fragment), or None: under a test folder, or a root
+    element other than ``<robot>``/``<sdf>``."""
+    try:
+        parts = file.relative_to(directory).parts[:-1]
+    except ValueError:
+        parts = ()
+    if any(part.lower() in TEST_DIRS for part in parts):
+        return "under a test folder"
+    root, macros = root_tag(file)
+    if root is not None and root not in ROBOT_ROOTS and not macros:
+        return f"root <{root}>"  # (a macro file's root may be anything: <root> of old ones)
+    return None
+
+
+_ROOT_TAG = re.compile(r"<(?![?!])(?:[\w.-]+:)?([A-Za-z_][\w.-]*)")
+
+
+def root_tag(file: Path) -> tuple[str | None, bool]:
+    """(the local name of a file's root element, whether it defines xacro macros), from its
+    first bytes (None: no element found, or unreadable: the check reports it)."""
+    try:
+        head = read_head(file, HEAD_BYTES).decode("utf-8", errors="replace")
+    except OSError:
+        return None, False
+    head = re.sub(r"<!--.*?-->", "", head, flags=re.DOTALL)
+    head = re.sub(r"<!DOCTYPE[^\[>]*(\[.*?\])?\s*>", "", head, flags=re.DOTALL)
+    match = _ROOT_TAG.search(head)
+    return (match.group(1) if match else None), re.search(r"<(?:xacro:)?macro\s", head) is not None
 
 
 def package_root(path: Path) -> Path:
@@ -81,15 +332,37 @@ def _config_of(path: Path, memo: dict):
     return configs[found[0]]
 
 
-def plan(paths: list[str], changed: bool = False) -> tuple[list[Target], set[str] | None]:
-    """The targets of a run, and in changed-files mode the given files (resolved)."""
+def plan(paths: list[str], changed: bool = False, selection: Selection | None = None,
+         ) -> tuple[list[Target], set[str] | None]:
+    """The targets of a run, and in changed-files mode the given files (resolved). Files
+    found in directories are kept or skipped by ``selection`` (exclusions, ignore markers,
+    .gitignore; its ``skipped`` counts them) and test fixtures are skipped; files given by
+    name are checked, except in changed-files mode (a hook names every file a commit
+    changes: exclusions apply to them too)."""
+    selection = selection if selection is not None else Selection()
+    configs: dict = {}
     files: list[Path] = []
     given: set[str] | None = set() if changed else None
+
+    def walk(directory: Path) -> list[Path]:
+        kept = []
+        for found in robot_files(directory, selection, configs):
+            config = _config_of(found, configs)
+            if fixture_reason(found, directory) is not None and not (config and any(
+                    str(e.path) == str(found.resolve()) for e in config.entries)):
+                selection.skip("fixture")
+            else:
+                kept.append(found)
+        return kept
+
     for raw in paths:
         path = Path(raw)
         if path.is_dir():
-            files.extend(robot_files(path))
+            selection.walked = True
+            files.extend(walk(path))
         elif path.exists() or path.is_symlink():  # a dangling link: the loader answers
+            if given is not None and skipped_alone(path, selection, configs):
+                continue
             if given is None or path.name.endswith(ROBOT_SUFFIXES):
                 files.append(path)  # (changed-files mode: a YAML, a mesh, a launch file only
             if given is not None:  # re-checks the entries that read it: ``triggered``)
@@ -100,11 +373,10 @@ def plan(paths: list[str], changed: bool = False) -> tuple[list[Target], set[str
         roots = sorted({package_root(Path(p)) for p in given})
         known = {str(f.resolve()) for f in files}
         for root in roots:
-            for found in robot_files(_shown(root, paths)):
+            for found in walk(_shown(root, paths)):
                 if str(found.resolve()) not in known:
                     known.add(str(found.resolve()))
                     files.append(found)
-    configs: dict = {}
     targets: list[Target] = []
     configured: set[str] = set()
     for file in files:
@@ -142,7 +414,11 @@ def _launched(file: Path, memo: dict) -> list[tuple[dict[str, str], str]]:
     found = memo.setdefault("launch", {})
     if root not in found:
         found[root] = launch_arguments(root)
-    return found[root].get(file.name, [])
+    try:
+        rel = file.resolve().relative_to(root).as_posix()
+    except ValueError:
+        return []
+    return found[root].get(rel, [])
 
 
 def _shown(path: Path, given: list[str]) -> Path:
@@ -153,33 +429,61 @@ def _shown(path: Path, given: list[str]) -> Path:
 
 
 def classify(targets: list[Target], reports: list[FileReport],
-             given: set[str] | None = None) -> tuple[list[FileReport], list[str]]:
-    """The reports to show (entries, lone fragments restricted to what can be checked alone;
-    in changed-files mode those that read a given file, restricted to findings in the given
-    files), and notes for the user."""
+             given: set[str] | None = None,
+             selection: Selection | None = None) -> tuple[list[FileReport], list[str]]:
+    """The reports to show, and notes for the user. Every file has a role (issue 22.1):
+
+    - entry: configured, or its expansion is a robot that no other file of the run includes;
+    - fragment: read by an entry (its findings come through the entry, at its own lines), or
+      included by another file (its include lines name it: ``static_includes``), or
+      definitions only, or an add-on (its links hang from links it does not define). A
+      fragment no entry read is shown once, alone, restricted to what it can be wrong about
+      alone (not ``ALONE_SKIPS``, not the names its includer defines); one that a failed
+      entry includes is not judged alone (the entry's failure is the finding);
+    - fixture, excluded, ignored: skipped by ``plan`` (counted in ``selection.skipped``).
+
+    In changed-files mode, only the reports that read a given file are kept, restricted to
+    findings in the given files."""
     resolved = [str(Path(t.path).resolve()) for t in targets]
-    entries = [i for i, (t, r) in enumerate(zip(targets, reports))
-               if t.configured or r.role == "entry"]
+    includers = static_includes(reports)
+    configured_files = {resolved[i] for i, t in enumerate(targets) if t.configured}
+    roles = [_role_of(i, targets, reports, resolved, includers) for i in range(len(targets))]
     read_by_entry: dict[str, set[int]] = {}
-    for i in entries:
-        for path in reports[i].includes:
-            read_by_entry.setdefault(path, set()).add(i)
+    for i, role_ in enumerate(roles):
+        if role_ == "entry":
+            for path in reports[i].includes:
+                read_by_entry.setdefault(path, set()).add(i)
+    failed = {resolved[i] for i in range(len(reports)) if _failed(reports[i])}
     shown: list[int] = []
-    for i, (target, report) in enumerate(zip(targets, reports)):
-        if target.configured:
+    fragments: set[str] = set()
+    for i, report in enumerate(reports):
+        if roles[i] == "entry" and (targets[i].configured or resolved[i] not in read_by_entry):
             shown.append(i)
-        elif resolved[i] in read_by_entry:
+            _name_missing_arguments(report, targets[i])
+            continue
+        if resolved[i] in configured_files:
+            continue  # the same file with other arguments: configured, it is an entry
+        fragments.add(resolved[i])
+        if resolved[i] in read_by_entry:
             continue  # a fragment of an entry (or an entry included by another)
-        elif report.role == "entry":
-            shown.append(i)
-        elif not any(resolved[i] in reports[j].includes and resolved[j] not in reports[i].includes
-                     for j in range(len(reports)) if j != i):
-            report.diagnostics = [d for d in report.diagnostics if not _needs_robot(d.rule)]
-            shown.append(i)
+        if _above(resolved[i], includers, failed):
+            continue  # an includer failed: its failure is the finding
+        if any(resolved[i] in reports[j].includes and resolved[j] not in report.includes
+               for j in range(len(reports)) if j != i):
+            continue  # read by another fragment shown alone: checked once, through it
+        report.role = "fragment"
+        report.diagnostics = [d for d in report.diagnostics
+                              if not _needs_robot(d.rule) and not _from_includer(d)]
+        shown.append(i)
     notes = [f"{reports[i].path}: expanded with "
              f"{' '.join(f'{k}:={v}' for k, v in targets[i].args.items())}, as "
              f"{targets[i].args_from} passes them (list it in urdftool.toml's entries to choose)"
-             for i in shown if targets[i].args_from]
+             for i in shown if targets[i].args_from and roles[i] == "entry"]
+    if selection is not None and selection.walked:
+        notes.append(_roles_line(sum(1 for i in shown if roles[i] == "entry"), len(fragments),
+                                 selection.skipped))
+    if selection is not None:
+        notes.extend(selection.unused())
     if given is not None:
         kept, elsewhere = [], 0
         for i in shown:
@@ -262,14 +566,198 @@ def _launch_triggers(target: Target, given: set[str]) -> list[str]:
     return [p for p in launch if p.startswith(directory)]
 
 
+def _roles_line(entries: int, fragments: int, skipped: dict[str, int]) -> str:
+    """The one line of a directory check that counts the files per role."""
+    def count(number: int, one: str, many: str) -> str:
+        return f"{number} {one if number == 1 else many}"
+
+    parts = [count(entries, "entry", "entries"), count(fragments, "fragment", "fragments"),
+             count(skipped.get("fixture", 0), "fixture", "fixtures")]
+    excluded = skipped.get("excluded", 0) + skipped.get("git-ignored", 0)
+    ignored = skipped.get("ignored (COLCON_IGNORE, AMENT_IGNORE, CATKIN_IGNORE)", 0)
+    parts.append(f"{excluded} excluded" + (f" ({skipped['git-ignored']} by .gitignore)"
+                                           if skipped.get("git-ignored") else ""))
+    if ignored:
+        parts.append(f"{ignored} under COLCON_IGNORE/AMENT_IGNORE/CATKIN_IGNORE")
+    return "roles: " + ", ".join(parts)
+
+
+def _role_of(i: int, targets: list[Target], reports: list[FileReport], resolved: list[str],
+             includers: dict[str, set[str]]) -> str:
+    if targets[i].configured:
+        return "entry"
+    if reports[i].role != "entry":
+        return "fragment"
+    # named by another file's include line: a fragment of that file
+    return "fragment" if includers.get(resolved[i], set()) - {resolved[i]} else "entry"
+
+
+def _above(path: str, includers: dict[str, set[str]], failed: set[str]) -> bool:
+    """Whether a file that (transitively) includes ``path`` failed to expand."""
+    seen, todo = {path}, [path]
+    while todo:
+        for parent in includers.get(todo.pop(), ()):
+            if parent in failed:
+                return True
+            if parent not in seen:
+                seen.add(parent)
+                todo.append(parent)
+    return False
+
+
+def _failed(report: FileReport) -> bool:
+    return any(d.rule in ("xacro.error", "xacro.limit-exceeded") for d in report.diagnostics)
+
+
+# xacro errors about names a fragment's includer defines (properties, macros, arguments)
+_FROM_INCLUDER = ("undefined property", "is called but never defined",
+                  "argument is not defined")
+
+
+def _from_includer(diagnostic) -> bool:
+    """A finding about what a fragment's includer gives it: the names it defines, and the
+    root element (an include keeps only what is inside it)."""
+    if diagnostic.rule == "schema.unknown-element":
+        return diagnostic.message.startswith("the root element is")
+    return diagnostic.rule == "xacro.error" and any(
+        text in diagnostic.message for text in _FROM_INCLUDER)
+
+
+_MISSING_ARG = re.compile(r"\$\(arg ([A-Za-z_]\w*)\) is used but the argument is not defined")
+
+
+def _name_missing_arguments(report: FileReport, target: Target) -> None:
+    """An entry stopped by an argument it never declares, that no launch file of its package
+    passes and the configuration does not give: one warning naming the argument and how to
+    give it (not a defect of the robot: the gate was not told how the entry is expanded). An
+    argument the file declares (after its use) stays the error it is."""
+    for index, d in enumerate(report.diagnostics):
+        match = _MISSING_ARG.search(d.message) if d.rule == "xacro.error" else None
+        if match is None:
+            continue
+        name = match.group(1)
+        declared = re.compile(rf"<(?:xacro:)?arg\s[^>]*name\s*=\s*[\"']{re.escape(name)}[\"']")
+        if any(declared.search(text) for text in report.texts.values()):
+            continue
+        how = (f"{target.args_from} does not pass it" if target.args_from else
+               "no launch file of its package passes it")
+        file = Path(target.path).as_posix()
+        report.diagnostics[index] = d._replace(
+            severity="warning",
+            message=f"xacro: the entry needs the argument '{name}' ($(arg {name})), which it "
+                    f"does not declare and {how}: it was not expanded",
+            hint=f'give it in urdftool.toml: entries = [{{ file = "{file}", args = '
+                 f'{{ {name} = "..." }} }}] (or pass {name}:=VALUE)')
+
+
+# -- the include lines of every file ------------------------------------------------------------
+# What an entry reads is known from its expansion; a file an include line names is a fragment
+# even when no expansion reached it (a conditional include, an entry stopped by an error, an
+# include inside a macro nobody calls, a name from an argument or an environment variable).
+# Names built from substitutions are matched as wildcards: `${prefix}_macro.xacro` names every
+# `*_macro.xacro` beside the includer.
+
+
+def static_includes(reports: list[FileReport]) -> dict[str, set[str]]:
+    """resolved file -> the resolved files of the run whose include lines name it."""
+    from urdftool.source import _INCLUDE
+
+    by_name: dict[str, list[str]] = {}
+    for report in reports:
+        for name in {report.path, *report.texts}:
+            resolved = str(Path(name).resolve())
+            known = by_name.setdefault(Path(resolved).name, [])
+            if resolved not in known:
+                known.append(resolved)
+    includers: dict[str, set[str]] = {}
+    seen: set[str] = set()
+    for report in reports:
+        for name, text in report.texts.items():
+            resolved = str(Path(name).resolve())
+            if resolved in seen:
+                continue
+            seen.add(resolved)
+            for spec in re.findall(_INCLUDE, re.sub(r"(?s)<!--.*?-->", "", text)):
+                for target in _include_candidates(spec, Path(resolved).parent, by_name):
+                    includers.setdefault(target, set()).add(resolved)
+    return includers
+
+
+_SUBSTITUTION = re.compile(r"\$\{[^}]*\}|\$\((?:arg|env|eval)\s[^)]*\)")
+_OPTENV = re.compile(r"\$\(optenv\s+\S+\s*([^)]*)\)")
+
+
+def _include_candidates(spec: str, base: Path, by_name: dict[str, list[str]]) -> list[str]:
+    """The files of the run an include's filename can name: ``$(find PKG)/rest`` as
+    ``rest`` under a folder named PKG, substitutions as wildcards within one path part,
+    ``$(optenv X default)`` as its default, other names relative to the including file."""
+    spec = _OPTENV.sub(lambda m: m.group(1).strip() or "*", spec.strip())
+    found = re.match(r"\$\(find\s+([^)\s]+)\)/?(.*)", spec)
+    pattern = _SUBSTITUTION.sub("*", found.group(2) if found else spec)
+    name = pattern.rsplit("/", 1)[-1]
+    if not name or "$(" in pattern:
+        return []
+    if found:
+        regex = ".*/" + _wildcards(pattern)
+    elif pattern.startswith("/"):
+        regex = _wildcards(pattern)
+    else:
+        regex = _wildcards(os.path.normpath(str(base / pattern.replace("*", "\0")))
+                           .replace("\0", "*"))
+    compiled = re.compile(regex)
+    names = [n for n in by_name if fnmatch.fnmatchcase(n, name)] if "*" in name else \
+        ([name] if name in by_name else [])
+    result = [path for n in names for path in by_name[n] if compiled.fullmatch(path)]
+    if found:  # in the package of that name: a folder so named, or its package.xml says so
+        package = found.group(1)
+        result = [path for path in result
+                  if f"/{package}/" in path and re.fullmatch(
+                      ".*/" + re.escape(package) + "/" + regex[3:], path)
+                  or _package_name(Path(path)) == package]
+    return result
+
+
+def _wildcards(text: str) -> str:
+    return "[^/]*".join(re.escape(part) for part in text.split("*"))
+
+
+_PACKAGE_NAMES: dict[Path, str | None] = {}
+
+
+def _package_name(file: Path) -> str | None:
+    """The name in the package.xml of the package ``file`` belongs to (None: none)."""
+    root = package_root(file)
+    if root not in _PACKAGE_NAMES:
+        name = None
+        try:
+            text = read_regular(root / "package.xml", 1 << 20).decode("utf-8", "replace")
+            match = re.search(r"<name>\s*([^<\s]+)\s*</name>", text)
+            name = match.group(1) if match else None
+        except OSError:
+            pass
+        _PACKAGE_NAMES[root] = name
+    return _PACKAGE_NAMES[root]
+
+
 def _needs_robot(rule_id: str) -> bool:
     return rule_id in ALONE_SKIPS or rule_id.split(".", 1)[0] in ALONE_SKIPS
 
 
-def role(source) -> str:
-    """'entry' when the expanded file is a robot (or not xacro at all), 'fragment' when it
-    holds only definitions (macros, properties, materials, gazebo, ros2_control)."""
-    root = source.root
+def role(source, robot=None) -> str:
+    """'fragment' when the expanded file holds only definitions (macros, properties,
+    materials, gazebo, ros2_control), or is an add-on (every link it defines hangs from a
+    joint, and some joint's parent is a link it does not define: an end effector or tool for
+    a robot defined elsewhere); else 'entry'. ``robot``: the model as read (past xacro errors:
+    the look-through's), else ``source``'s root is looked at."""
+    if robot is not None and (robot.links or robot.joints):
+        defined = {link.name for link in robot.links}
+        children = {joint.child for joint in robot.joints}
+        if defined <= children and any(joint.parent and joint.parent not in defined
+                                       for joint in robot.joints):
+            return "fragment"  # (no link at all: joints to links of the includer)
+    root = robot.root if robot is not None and robot.root is not None else source.root
+    if source.kind == "xacro" and root is None:
+        return _role_as_written(source.texts.get(source.path, ""))
     if source.kind != "xacro" or root is None:
         return "entry"
     for child in root:
@@ -277,6 +765,24 @@ def role(source) -> str:
         if isinstance(tag, str) and tag not in DEFINITION_TAGS:
             return "entry"
     return "fragment"
+
+
+_XACRO_KEYWORDS = frozenset({"macro", "property", "include", "arg", "if", "unless", "insert_block",
+                             "element", "attribute", "call", "eval"})
+
+
+def _role_as_written(text: str) -> str:
+    """The role of a xacro file that could not be expanded, from its text: no ``<link>``
+    outside its macro definitions, but joints or calls of macros it does not define (they
+    come from its includer) -> 'fragment'."""
+    text = re.sub(r"(?s)<!--.*?-->", "", text)
+    outside = re.sub(r"(?s)<xacro:macro\b.*?</xacro:macro>", "", text)
+    if re.search(r"<link[\s>/]", outside):
+        return "entry"
+    defined = set(re.findall(r"<xacro:macro\s[^>]*name\s*=\s*[\"']([^\"']+)", text))
+    called = {name for name in re.findall(r"<xacro:([\w.-]+)", outside)
+              if name not in _XACRO_KEYWORDS and name not in defined}
+    return "fragment" if called or re.search(r"<joint[\s>]", outside) else "entry"
 
 
 # -- what each check read, kept between runs (changed-files mode) -----------------------------

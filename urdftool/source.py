@@ -179,7 +179,8 @@ class Source:
 def detect_kind(path: Path, text: str) -> str:
     """'sdf', 'xacro' or 'urdf'. SDF by content; a ``.xacro`` file is xacro; a ``.urdf`` file is
     read as URDF consumers read it (leftover ``${...}`` or ``$(...)`` are reported, not
-    evaluated) unless it has xacro elements; other names by whether the text uses xacro."""
+    evaluated) unless it has xacro elements, or has no ``<link>`` and uses xacro (a fragment
+    named ``.urdf``); other names by whether the text uses xacro."""
     if re.search(r"<sdf[\s>]", text[:4096]) or path.suffix == ".sdf":
         return "sdf"
     if path.suffix == ".xacro":
@@ -187,6 +188,9 @@ def detect_kind(path: Path, text: str) -> str:
     pattern = "<xacro:" if path.suffix == ".urdf" else _XACRO_USE
     if re.search(pattern, text) and re.search(pattern, without_comments(text)):
         return "xacro"
+    if path.suffix == ".urdf" and "<link" not in text and re.search(_XACRO_USE, text) and (
+            re.search(_XACRO_USE, re.sub(_COMMENT, "", text))):
+        return "xacro"  # no robot a URDF consumer could read: a xacro fragment so named
     return "urdf"
 
 

@@ -81,11 +81,21 @@ from urdftool.cli import (
                    "many recorded ones are gone. Default: the configuration's `baseline`.")
 @click.option("--write-baseline", "write_baseline", type=click.Path(dir_okay=False),
               metavar="FILE", help="Record today's findings in FILE and exit 0.")
+@click.option("--exclude", "exclude", multiple=True, metavar="PATTERN",
+              help="Files and folders not to check in the directories given (glob, as ruff's; "
+                   "repeatable or comma-separated). Replaces the configuration's `exclude` and "
+                   "the defaults (hidden folders, build, install, log).")
+@click.option("--extend-exclude", "extend_exclude", multiple=True, metavar="PATTERN",
+              help="Like --exclude, but added to the excluded patterns.")
+@click.option("--respect-gitignore/--no-respect-gitignore", "respect_gitignore", default=None,
+              help="Skip what .gitignore files ignore (default: yes, or the configuration's "
+                   "`respect-gitignore`). Folders with COLCON_IGNORE, AMENT_IGNORE or "
+                   "CATKIN_IGNORE are always skipped.")
 @click.pass_context
 def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixes, diff, output,
             output_file, extra_outputs,
             show_info, statistics, exit_zero, quiet, in_place, sdf_model, model_paths, no_cache,
-            jobs, changed, baseline, write_baseline):
+            jobs, changed, baseline, write_baseline, exclude, extend_exclude, respect_gitignore):
     """Lint robot descriptions (*.urdf, *.xacro, *.urdf.xacro, *.sdf); all findings in one pass.
 
     Exit code 0: no errors (with --strict: no warnings either); 1: findings; 2: could not check.
@@ -115,6 +125,10 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixe
     # text and GitHub annotations show a fix's hint, not its edits
     options.unsafe_edits = bool(fix or diff) or (fmt in ("json", "sarif") and not statistics) \
         or any(value.split(":", 1)[0] in ("json", "sarif") for value in extra_outputs)
+    from urdftool.package import Selection
+
+    options.selection = Selection(split(exclude) if exclude else None, split(extend_exclude),
+                                  respect_gitignore)
     if in_place and not fix:
         raise ToolError("--in-place goes with --fix")
     report_to = output_file or (None if fix else output)  # -o is the repaired file with --fix

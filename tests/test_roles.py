@@ -1,0 +1,300 @@
+"""Every file of a repository has a role before its findings are judged (issue 22.1): entries,
+fragments (read by an entry, named by an include line, definitions only, a `.urdf` that is
+xacro, an add-on), fixtures (test folders, roots that are no robot), and what is excluded
+(issue 23.3: `exclude`/`--exclude`/`--extend-exclude`, COLCON_IGNORE & co., .gitignore)."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from tests.conftest import run_urdftool
+
+XACRO_NS = 'xmlns:xacro="http://www.ros.org/wiki/xacro"'
+LINK = """  <link name="{name}">
+    <inertial><mass value="1"/>
+      <inertia ixx="0.0016666667" ixy="0" ixz="0" iyy="0.0016666667" iyz="0" izz="0.0016666667"/>
+    </inertial>
+    <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+  </link>
+"""
+JOINT = """  <joint name="{name}" type="fixed"><parent link="{parent}"/><child link="{child}"/>
+  </joint>
+"""
+# one true defect, that every role must keep reporting: a revolute joint with swapped limits
+BAD_JOINT = """  <joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>
+    <axis xyz="0 0 1"/><limit lower="1" upper="-1" effort="1" velocity="1"/></joint>
+"""
+
+
+def robot(name: str, body: str, xacro: bool = False) -> str:
+    ns = f" {XACRO_NS}" if xacro else ""
+    return f'<?xml version="1.0"?>\n<robot name="{name}"{ns}>\n{body}</robot>\n'
+
+
+def check(*args) -> tuple[int, dict, str]:
+    result = run_urdftool("check", "--format", "json", "--jobs", "1", *args)
+    assert result.code in (0, 1), result.err
+    return result.code, json.loads(result.out), result.err
+
+
+def findings(report: dict) -> list[tuple[str, str]]:
+    return sorted((d["path"], d["rule"]) for f in report["files"] for d in f["diagnostics"]
+                  if d["severity"] != "info")
+
+
+def roles(err: str) -> str:
+    return next(line for line in err.splitlines() if line.startswith("roles: "))
+
+
+@pytest.fixture
+def repo(tmp_path, monkeypatch) -> Path:
+    """A description package with one entry holding one true defect."""
+    root = tmp_path / "arm_description"
+    (root / "urdf").mkdir(parents=True)
+    (root / "package.xml").write_text("<package><name>arm_description</name></package>")
+    (root / "urdf" / "arm.urdf").write_text(robot("arm", LINK.format(name="base")
+                                                  + LINK.format(name="tip")
+                                                  + BAD_JOINT.format(name="j", parent="base",
+                                                                     child="tip")))
+    monkeypatch.chdir(root)
+    return root
+
+
+def vendored(root: Path, folder: str) -> None:
+    """Another description, with defects of its own, vendored under ``folder``."""
+    other = root / folder / "gripper_description" / "urdf"
+    other.mkdir(parents=True)
+    (other / "gripper.urdf").write_text(robot("gripper", LINK.format(name="palm")
+                                              + BAD_JOINT.format(name="g", parent="palm",
+                                                                 child="nowhere")))
+    (other.parent / "package.xml").write_text("<package><name>gripper_description</name>"
+                                              "</package>")
+
+
+@pytest.mark.parametrize("marker", ["COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE"])
+def test_a_vendored_description_under_an_ignore_marker_reports_nothing(repo, marker):
+    vendored(repo, "third_party")
+    _, before, _ = check(".")
+    assert any(path.startswith("third_party/") for path, _ in findings(before))
+    (repo / "third_party" / marker).write_text("")
+    code, report, err = check(".")
+    assert findings(report) == [("urdf/arm.urdf", "joint.lower-above-upper")]
+    assert code == 1
+    assert roles(err) == ("roles: 1 entry, 0 fragments, 0 fixtures, 0 excluded, "
+                          "1 under COLCON_IGNORE/AMENT_IGNORE/CATKIN_IGNORE")
+
+
+def test_exclude_in_the_configuration_and_on_the_command_line(repo):
+    vendored(repo, "vendor")
+    vendored(repo, "extra")
+    vendored(repo, ".backup")
+    (repo / "urdftool.toml").write_text('exclude = ["vendor", ".*"]\n')
+    _, report, err = check(".")
+    assert {p.split("/")[0] for p, _ in findings(report)} == {"urdf", "extra"}
+    assert "2 excluded" in roles(err) and "warning" not in err
+    # --extend-exclude adds to the configuration's; an anchored pattern names one place
+    _, report, _ = check(".", "--extend-exclude", "extra/gripper_description/urdf/*.urdf")
+    assert {p.split("/")[0] for p, _ in findings(report)} == {"urdf"}
+    # --exclude replaces it
+    _, report, _ = check(".", "--exclude", "extra")
+    assert {p.split("/")[0] for p, _ in findings(report)} == {"urdf", "vendor", ".backup"}
+
+
+def test_an_exclude_pattern_that_matches_nothing_is_a_warning(repo):
+    (repo / "urdftool.toml").write_text('extend-exclude = ["vendr"]\n')
+    code, report, err = check(".", "--extend-exclude", "*.sdf")
+    assert "warning: urdftool.toml: extend-exclude pattern 'vendr' matches nothing" in err
+    assert "warning: --extend-exclude pattern '*.sdf' matches nothing" in err
+    assert findings(report) == [("urdf/arm.urdf", "joint.lower-above-upper")] and code == 1
+
+
+@pytest.mark.parametrize("value", ['"vendor"', '[1]', '[""]'])
+def test_a_malformed_exclude_exits_2(repo, value):
+    (repo / "urdftool.toml").write_text(f"exclude = {value}\n")
+    result = run_urdftool("check", ".")
+    assert result.code == 2 and "exclude must be a list of glob patterns" in result.err
+
+
+def test_git_ignored_files_are_skipped_unless_told(repo):
+    if shutil.which("git") is None:
+        pytest.fail("git is needed for this test")
+    subprocess.run(["git", "init", "-q", str(repo)], check=True)
+    vendored(repo, "generated")
+    (repo / ".gitignore").write_text("generated/\n")
+    _, report, err = check(".")
+    assert findings(report) == [("urdf/arm.urdf", "joint.lower-above-upper")]
+    assert "1 excluded (1 by .gitignore)" in roles(err)
+    _, report, _ = check(".", "--no-respect-gitignore")
+    assert any(p.startswith("generated/") for p, _ in findings(report))
+    # a negation in a deeper .gitignore wins, as in git
+    (repo / "generated" / ".gitignore").write_text("!*\n")
+    (repo / ".gitignore").write_text("generated/*.urdf\n")
+    _, report, _ = check(".")
+    assert any(p.startswith("generated/") for p, _ in findings(report))
+
+
+def test_test_fixtures_and_files_that_are_no_robot_are_not_checked(repo):
+    fixtures = repo / "test" / "data"
+    fixtures.mkdir(parents=True)
+    (fixtures / "broken.urdf").write_text(robot("broken", LINK.format(name="a")
+                                                + LINK.format(name="b")
+                                                + BAD_JOINT.format(name="j", parent="a",
+                                                                   child="b")))
+    (repo / "urdf" / "case.xacro").write_text(
+        f'<test {XACRO_NS}><xacro:property name="x" value="1"/><a b="${{x}}"/></test>\n')
+    # an old-style macro file (root <root>) is a fragment, not a fixture
+    (repo / "urdf" / "macros.xacro").write_text(
+        f'<root {XACRO_NS}><xacro:macro name="m"><link name="l"/></xacro:macro></root>\n')
+    code, report, err = check(".")
+    assert findings(report) == [("urdf/arm.urdf", "joint.lower-above-upper")] and code == 1
+    assert roles(err) == "roles: 1 entry, 1 fragment, 2 fixtures, 0 excluded"
+    # a fixture given by name is checked
+    _, report, _ = check("test/data/broken.urdf")
+    assert findings(report) == [("test/data/broken.urdf", "joint.lower-above-upper")]
+
+
+def test_a_urdf_file_that_is_a_xacro_fragment(repo):
+    # materials and ${} only, no link, included by nothing (turtlebot3's common_properties)
+    (repo / "urdf" / "common_properties.urdf").write_text(
+        f'<?xml version="1.0"?>\n<robot name="props" {XACRO_NS}>\n'
+        '  <material name="orange"><color rgba="${255/255} ${108/255} ${10/255} 1.0"/>'
+        '</material>\n</robot>\n')
+    code, report, err = check(".")
+    assert findings(report) == [("urdf/arm.urdf", "joint.lower-above-upper")] and code == 1
+    assert "1 fragment" in roles(err)
+
+
+ARM = robot("arm", LINK.format(name="base") + LINK.format(name="flange")
+            + JOINT.format(name="j", parent="base", child="flange")
+            + '  <xacro:include filename="tool.xacro"/>\n'
+            + '  <xacro:tool parent="flange"/>\n', xacro=True)
+TOOL = robot("tool", '  <xacro:macro name="tool" params="parent">\n'
+             + LINK.format(name="tool") + JOINT.format(name="t", parent="${parent}",
+                                                       child="tool")
+             + '    <xacro:include filename="tool_gazebo.xacro"/>\n'
+             + '  </xacro:macro>\n', xacro=True)
+# uses the macro's parameter: it only expands inside the macro that includes it
+TOOL_GAZEBO = robot("tool_gazebo", '  <gazebo reference="${parent}"><mu1>0.5</mu1></gazebo>\n',
+                    xacro=True)
+# an end effector for a robot defined elsewhere: its links hang from the robot's
+ADD_ON = robot("hand", LINK.format(name="palm") + LINK.format(name="finger")
+               + JOINT.format(name="mount", parent="left_hand", child="palm")
+               + BAD_JOINT.format(name="f", parent="palm", child="finger"))
+
+
+def test_fragments_and_add_ons_are_judged_for_what_they_hold(repo):
+    urdf = repo / "urdf"
+    (urdf / "arm.urdf").unlink()
+    (urdf / "arm.urdf.xacro").write_text(ARM)
+    (urdf / "tool.xacro").write_text(TOOL)
+    (urdf / "tool_gazebo.xacro").write_text(TOOL_GAZEBO)
+    (urdf / "hand.urdf").write_text(ADD_ON)
+    code, report, err = check(".")
+    # the add-on keeps its own defect, without 'parent link left_hand is not defined'
+    assert findings(report) == [("urdf/hand.urdf", "joint.lower-above-upper")] and code == 1
+    assert roles(err) == "roles: 1 entry, 3 fragments, 0 fixtures, 0 excluded"
+    # a typo'd parent in a robot is still an error: it has a root link of its own
+    (urdf / "hand.urdf").write_text(ADD_ON.replace('"left_hand"', '"bse"').replace(
+        '<joint name="mount"', LINK.format(name="base") + '<joint name="mount"'))
+    _, report, _ = check(".")
+    assert ("urdf/hand.urdf", "structure.missing-link") in findings(report)
+
+
+def test_a_fragment_no_entry_reaches_is_not_blamed_for_its_includers_names(repo):
+    urdf = repo / "urdf"
+    (urdf / "tool.xacro").write_text(TOOL)  # a macro file nothing calls
+    (urdf / "tool_gazebo.xacro").write_text(TOOL_GAZEBO)
+    # calls a macro of its includer (an extension chosen by an environment variable)
+    (urdf / "extras.urdf").write_text(robot("s", '  <xacro:sensor_mount prefix="front"/>\n'
+                                            + JOINT.format(name="m", parent="front_mount",
+                                                           child="front_sensor"), xacro=True))
+    _, report, err = check(".")
+    assert findings(report) == [("urdf/arm.urdf", "joint.lower-above-upper")]
+    assert "1 entry, 3 fragments" in roles(err)
+
+
+# -- launch arguments (issue 22.2) -------------------------------------------------------------
+
+MODEL = robot("$(arg model)", '  <xacro:arg name="prefix" default=""/>\n'
+              + LINK.format(name="$(arg prefix)base") + LINK.format(name="$(arg prefix)tip")
+              + BAD_JOINT.format(name="$(arg prefix){joint}", parent="$(arg prefix)base",
+                                 child="$(arg prefix)tip"), xacro=True)
+
+
+def _launch_package(tmp_path: Path, launch_name: str, launch_text: str) -> Path:
+    root = tmp_path / "bot_description"
+    (root / "urdf").mkdir(parents=True)
+    (root / "launch").mkdir()
+    (root / "package.xml").write_text("<package><name>bot_description</name></package>")
+    for model in ("small", "large"):
+        (root / "urdf" / f"robot_{model}.urdf.xacro").write_text(
+            MODEL.replace("{joint}", f"{model}_joint"))
+    (root / "launch" / launch_name).write_text(launch_text)
+    return root
+
+
+XML_LAUNCH = """<launch>
+  <arg name="model"/>
+  <arg name="prefix" default='""'/>
+  <param name="robot_description" command="$(find xacro)/xacro
+      $(find bot_description)/urdf/robot_$(arg model).urdf.xacro model:=$(arg model)
+      prefix:=$(arg prefix)"/>
+</launch>
+"""
+PYTHON_LAUNCH = """
+from launch.substitutions import Command, LaunchConfiguration, PathJoinSubstitution
+from launch_ros.substitutions import FindPackageShare
+
+MODEL = "model"
+
+def generate_launch_description():
+    model = LaunchConfiguration(MODEL)
+    prefix = LaunchConfiguration("prefix")
+    file = PathJoinSubstitution([FindPackageShare("bot_description"), "urdf",
+                                 ["robot_", model, ".urdf.xacro"]])
+    args = [DeclareLaunchArgument(MODEL), DeclareLaunchArgument("prefix", default_value="''")]
+    description = Command(["xacro ", file, " model:=", model, " prefix:=", prefix])
+    return LaunchDescription(args + [Node(parameters=[{"robot_description": description}])])
+"""
+
+
+@pytest.mark.parametrize("launch_name, text", [("bot.launch", XML_LAUNCH),
+                                               ("bot.launch.py", PYTHON_LAUNCH)])
+def test_a_substitution_in_the_file_name_makes_each_match_an_entry(tmp_path, monkeypatch,
+                                                                    launch_name, text):
+    root = _launch_package(tmp_path, launch_name, text)
+    monkeypatch.chdir(root)
+    code, report, err = check(".")
+    files = {f["path"]: f for f in report["files"]}
+    assert {p: f["args"] for p, f in files.items()} == {
+        "urdf/robot_large.urdf.xacro": {"model": "large", "prefix": ""},
+        "urdf/robot_small.urdf.xacro": {"model": "small", "prefix": ""}}
+    # the quoted empty default is empty: link names carry no quotes
+    messages = [d["message"] for f in report["files"] for d in f["diagnostics"]]
+    assert sorted(m.split(":")[0] for m in messages) == ["joint 'large_joint'",
+                                                        "joint 'small_joint'"], messages
+    assert not any('"' in m.split(":")[0] or "'''" in m for m in messages)
+    assert code == 1 and roles(err).startswith("roles: 2 entries, 0 fragments")
+
+
+def test_an_entry_without_its_arguments_is_one_warning_naming_them(tmp_path, monkeypatch):
+    root = _launch_package(tmp_path, "bot.launch", "<launch/>")
+    monkeypatch.chdir(root)
+    code, report, _ = check(".")
+    found = [d for f in report["files"] for d in f["diagnostics"]]
+    assert [(d["rule"], d["severity"]) for d in found] == [("xacro.error", "warning")] * 2
+    for d in found:
+        assert "needs the argument 'model'" in d["message"]
+        assert "entries = [{ file = \"urdf/robot_" in d["hint"] and 'model = "..."' in d["hint"]
+    assert code == 0
+    # given in the configuration, each is checked
+    (root / "urdftool.toml").write_text(
+        'entries = [{ file = "urdf/robot_small.urdf.xacro", args = { model = "s" } }]\n')
+    _, report, _ = check(".")
+    rules = {f["path"]: [d["rule"] for d in f["diagnostics"]] for f in report["files"]}
+    assert rules["urdf/robot_small.urdf.xacro"] == ["joint.lower-above-upper"]
