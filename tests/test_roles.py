@@ -246,6 +246,14 @@ XML_LAUNCH = """<launch>
       prefix:=$(arg prefix)"/>
 </launch>
 """
+XML2_LAUNCH = """<launch>
+  <arg name="model"/>
+  <arg name="prefix" default='""'/>
+  <node pkg="robot_state_publisher" exec="robot_state_publisher">
+    <param name="robot_description" value="$(command 'xacro $(find-pkg-share bot_description)/urdf/robot_$(var model).urdf.xacro model:=$(var model) prefix:=$(var prefix)')"/>
+  </node>
+</launch>
+"""
 PYTHON_LAUNCH = """
 from launch.substitutions import Command, LaunchConfiguration, PathJoinSubstitution
 from launch_ros.substitutions import FindPackageShare
@@ -264,6 +272,7 @@ def generate_launch_description():
 
 
 @pytest.mark.parametrize("launch_name, text", [("bot.launch", XML_LAUNCH),
+                                               ("bot.launch.xml", XML2_LAUNCH),
                                                ("bot.launch.py", PYTHON_LAUNCH)])
 def test_a_substitution_in_the_file_name_makes_each_match_an_entry(tmp_path, monkeypatch,
                                                                     launch_name, text):
@@ -298,3 +307,35 @@ def test_an_entry_without_its_arguments_is_one_warning_naming_them(tmp_path, mon
     _, report, _ = check(".")
     rules = {f["path"]: [d["rule"] for d in f["diagnostics"]] for f in report["files"]}
     assert rules["urdf/robot_small.urdf.xacro"] == ["joint.lower-above-upper"]
+
+
+def test_a_transmission_fragment_using_its_includers_property(repo):
+    # read past the undefined ${prefix}: still a fragment (was: no-links, no-name,
+    # transmission.unknown-joint and the xacro error, 4 errors)
+    (repo / "urdf" / "arm.transmission.xacro").write_text(robot("t", """
+  <transmission name="${prefix}trans1">
+    <type>transmission_interface/SimpleTransmission</type>
+    <joint name="${prefix}joint1"><hardwareInterface>EffortJointInterface</hardwareInterface>
+    </joint>
+    <actuator name="${prefix}motor1"><mechanicalReduction>1</mechanicalReduction></actuator>
+  </transmission>
+""", xacro=True).replace(' name="t"', ""))
+    code, report, err = check(".")
+    assert findings(report) == [("urdf/arm.urdf", "joint.lower-above-upper")] and code == 1
+    assert "1 entry, 1 fragment" in roles(err)
+
+
+def test_a_file_only_a_pattern_names_keeps_its_robot_rules(repo):
+    # a wrapper includes one robot chosen by an argument: the others stay entries
+    urdf = repo / "urdf"
+    (urdf / "arm.urdf").unlink()
+    (urdf / "all.urdf.xacro").write_text(robot("all", '  <xacro:arg name="which" default="a"/>\n'
+                                               '  <xacro:include filename="$(arg which).xacro"/>\n',
+                                               xacro=True))
+    (urdf / "a.xacro").write_text(robot("a", LINK.format(name="a0"), xacro=True))
+    (urdf / "b.xacro").write_text(robot("b", LINK.format(name="b0") + LINK.format(name="b1")
+                                        + JOINT.format(name="j", parent="b0", child="bl"),
+                                        xacro=True))
+    _, report, err = check(".")
+    assert ("urdf/b.xacro", "structure.missing-link") in findings(report)
+    assert "2 entries, 1 fragment" in roles(err)

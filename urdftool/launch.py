@@ -36,8 +36,8 @@ MAX_FILES = 64
 MAX_BYTES = 256 * 1024
 MAX_SETS = 12  # argument sets per xacro file
 MAX_XACROS = 4000  # xacro files of a package matched against the launch files' names
-_SUBSTITUTION = re.compile(r"\$\((arg|var|find|find-pkg-share|dirname|env|optenv|eval|anon)"
-                           r"\s*([^)]*)\)")
+_SUBSTITUTION = re.compile(r"\$\((arg|var|find-pkg-share|find-pkg-prefix|find|dirname|env|optenv|"
+                           r"eval|anon)(?![\w-])\s*([^)]*)\)")
 _PAIR = re.compile(r"([A-Za-z_]\w*):=(.*)", re.DOTALL)
 
 # a value: a list of parts, each a literal string, ("arg", NAME), ("pkg", NAME) or ANY
@@ -473,6 +473,8 @@ def _parse_xml(text: str):
 def _xml_parts(value: str) -> list:
     """``$(arg X)``/``$(var X)`` as launch arguments, ``$(find P)`` as a package, any other
     substitution unknown."""
+    # ROS 2: value="$(command 'xacro FILE NAME:=VALUE')": the command line inside
+    value = re.sub(r"\$\(command\s+(['\"])(.*)\1\s*\)", r"\2", value, flags=re.DOTALL)
     parts: list = []
     last = 0
     for match in _SUBSTITUTION.finditer(value):

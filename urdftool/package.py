@@ -21,6 +21,7 @@ given files are reported; how many lie elsewhere is said in a note.
 from __future__ import annotations
 
 import fnmatch
+import itertools
 import os
 import re
 from pathlib import Path
@@ -111,12 +112,13 @@ class Selection:
             return self.respect_gitignore
         return config.respect_gitignore if config is not None else True
 
-    def excluded(self, path: Path, patterns, is_dir: bool) -> bool:
-        """Whether ``path`` matches one of ``patterns`` (recorded as used)."""
-        hit = False
+    def excluded(self, path: Path, patterns, is_dir: bool) -> str | None:
+        """Where the pattern ``path`` matches was written ("" for a default one), or None
+        (matches are recorded as used)."""
+        hit = None
         for base, pattern, where in patterns:
             if _glob_matches(self._spec(pattern), path, base, is_dir, pattern):
-                hit = True
+                hit = where if hit is None or where else hit
                 if where:
                     self._matched.add((where, pattern))
         return hit
@@ -205,11 +207,11 @@ def skipped_alone(file: Path, selection: Selection, memo: dict) -> bool:
     top = git_top(file.parent) if selection.gitignore(config) else None
     root = package_root(file)
     stop = top if top is not None and top in root.parents else root
-    if selection.excluded(file, patterns, False):
+    if selection.excluded(file, patterns, False) is not None:
         return True
     for folder in file.resolve().parents:
         if any((folder / marker).exists() for marker in IGNORE_MARKERS) or (
-                folder != stop and selection.excluded(folder, patterns, True)):
+                folder != stop and selection.excluded(folder, patterns, True) is not None):
             return True
         if folder == stop or folder == folder.parent:
             break
@@ -252,8 +254,9 @@ def robot_files(directory: Path, selection: Selection | None = None,
         kept = []
         for name in sorted(dirnames):
             sub = here / name
-            if selection.excluded(sub, patterns, True):
-                selection.skip("excluded", _count_robot_files(sub))
+            where = selection.excluded(sub, patterns, True)
+            if where is not None:  # (what the defaults skip, .git and the like: not counted)
+                selection.skip("excluded", _count_robot_files(sub) if where else 0)
             elif gitignore and top and selection.ignored_by_git(sub, True, top):
                 selection.skip("git-ignored", _count_robot_files(sub))
             else:
@@ -263,7 +266,7 @@ def robot_files(directory: Path, selection: Selection | None = None,
             if not name.endswith(ROBOT_SUFFIXES):
                 continue
             file = here / name
-            if selection.excluded(file, patterns, False):
+            if selection.excluded(file, patterns, False) is not None:
                 selection.skip("excluded")
             elif gitignore and top and selection.ignored_by_git(file, False, top):
                 selection.skip("git-ignored")
@@ -272,9 +275,17 @@ def robot_files(directory: Path, selection: Selection | None = None,
     return found
 
 
+MAX_COUNTED = 20000  # directory entries looked at to count what a skipped folder holds
+
+
 def _count_robot_files(directory: Path) -> int:
-    return sum(name.endswith(ROBOT_SUFFIXES) for _, _, names in os.walk(directory)
-               for name in names)
+    count = seen = 0
+    for _, dirnames, names in os.walk(directory):
+        seen += len(names) + len(dirnames)
+        count += sum(name.endswith(ROBOT_SUFFIXES) for name in names)
+        if seen > MAX_COUNTED:
+            break
+    return count
 
 
 def fixture_reason(file: Path, directory: Path) -> str | None:
@@ -445,9 +456,11 @@ def classify(targets: list[Target], reports: list[FileReport],
     In changed-files mode, only the reports that read a given file are kept, restricted to
     findings in the given files."""
     resolved = [str(Path(t.path).resolve()) for t in targets]
-    includers = static_includes(reports)
+    exact, wildcard = static_includes(reports)
+    includers = {path: exact.get(path, set()) | wildcard.get(path, set())
+                 for path in {*exact, *wildcard}}
     configured_files = {resolved[i] for i, t in enumerate(targets) if t.configured}
-    roles = [_role_of(i, targets, reports, resolved, includers) for i in range(len(targets))]
+    roles = [_role_of(i, targets, reports, resolved, exact) for i in range(len(targets))]
     read_by_entry: dict[str, set[int]] = {}
     for i, role_ in enumerate(roles):
         if role_ == "entry":
@@ -588,7 +601,7 @@ def _role_of(i: int, targets: list[Target], reports: list[FileReport], resolved:
         return "entry"
     if reports[i].role != "entry":
         return "fragment"
-    # named by another file's include line: a fragment of that file
+    # named by another file's include line (not by a pattern): a fragment of that file
     return "fragment" if includers.get(resolved[i], set()) - {resolved[i]} else "entry"
 
 
@@ -636,8 +649,7 @@ def _name_missing_arguments(report: FileReport, target: Target) -> None:
         if match is None:
             continue
         name = match.group(1)
-        declared = re.compile(rf"<(?:xacro:)?arg\s[^>]*name\s*=\s*[\"']{re.escape(name)}[\"']")
-        if any(declared.search(text) for text in report.texts.values()):
+        if any(_declares(text, name) for text in report.texts.values()):
             continue
         how = (f"{target.args_from} does not pass it" if target.args_from else
                "no launch file of its package passes it")
@@ -650,6 +662,15 @@ def _name_missing_arguments(report: FileReport, target: Target) -> None:
                  f'{{ {name} = "..." }} }}] (or pass {name}:=VALUE)')
 
 
+def _declares(text: str, name: str) -> bool:
+    """Whether ``text`` has an ``<xacro:arg name="NAME">`` (or an old unprefixed ``<arg>``)."""
+    for match in re.finditer(rf"name\s*=\s*[\"']{re.escape(name)}[\"']", text):
+        tag = text.rfind("<", max(0, match.start() - 400), match.start())
+        if tag >= 0 and re.match(r"<(?:xacro:)?arg\s", text[tag:match.start()]):
+            return True
+    return False
+
+
 # -- the include lines of every file ------------------------------------------------------------
 # What an entry reads is known from its expansion; a file an include line names is a fragment
 # even when no expansion reached it (a conditional include, an entry stopped by an error, an
@@ -658,8 +679,10 @@ def _name_missing_arguments(report: FileReport, target: Target) -> None:
 # `*_macro.xacro` beside the includer.
 
 
-def static_includes(reports: list[FileReport]) -> dict[str, set[str]]:
-    """resolved file -> the resolved files of the run whose include lines name it."""
+def static_includes(reports: list[FileReport],
+                    ) -> tuple[dict[str, set[str]], dict[str, set[str]]]:
+    """(resolved file -> the resolved files of the run whose include lines name it exactly,
+    the same for names with wildcards: a file only a pattern names may be another entry)."""
     from urdftool.source import _INCLUDE
 
     by_name: dict[str, list[str]] = {}
@@ -669,7 +692,8 @@ def static_includes(reports: list[FileReport]) -> dict[str, set[str]]:
             known = by_name.setdefault(Path(resolved).name, [])
             if resolved not in known:
                 known.append(resolved)
-    includers: dict[str, set[str]] = {}
+    exact: dict[str, set[str]] = {}
+    wildcard: dict[str, set[str]] = {}
     seen: set[str] = set()
     for report in reports:
         for name, text in report.texts.items():
@@ -678,16 +702,18 @@ def static_includes(reports: list[FileReport]) -> dict[str, set[str]]:
                 continue
             seen.add(resolved)
             for spec in re.findall(_INCLUDE, re.sub(r"(?s)<!--.*?-->", "", text)):
-                for target in _include_candidates(spec, Path(resolved).parent, by_name):
-                    includers.setdefault(target, set()).add(resolved)
-    return includers
+                targets, pattern = _include_candidates(spec, Path(resolved).parent, by_name)
+                for target in targets:
+                    (wildcard if pattern else exact).setdefault(target, set()).add(resolved)
+    return exact, wildcard
 
 
 _SUBSTITUTION = re.compile(r"\$\{[^}]*\}|\$\((?:arg|env|eval)\s[^)]*\)")
 _OPTENV = re.compile(r"\$\(optenv\s+\S+\s*([^)]*)\)")
 
 
-def _include_candidates(spec: str, base: Path, by_name: dict[str, list[str]]) -> list[str]:
+def _include_candidates(spec: str, base: Path, by_name: dict[str, list[str]],
+                        ) -> tuple[list[str], bool]:
     """The files of the run an include's filename can name: ``$(find PKG)/rest`` as
     ``rest`` under a folder named PKG, substitutions as wildcards within one path part,
     ``$(optenv X default)`` as its default, other names relative to the including file."""
@@ -696,7 +722,7 @@ def _include_candidates(spec: str, base: Path, by_name: dict[str, list[str]]) ->
     pattern = _SUBSTITUTION.sub("*", found.group(2) if found else spec)
     name = pattern.rsplit("/", 1)[-1]
     if not name or "$(" in pattern:
-        return []
+        return [], False
     if found:
         regex = ".*/" + _wildcards(pattern)
     elif pattern.startswith("/"):
@@ -714,7 +740,7 @@ def _include_candidates(spec: str, base: Path, by_name: dict[str, list[str]]) ->
                   if f"/{package}/" in path and re.fullmatch(
                       ".*/" + re.escape(package) + "/" + regex[3:], path)
                   or _package_name(Path(path)) == package]
-    return result
+    return result, "*" in pattern
 
 
 def _wildcards(text: str) -> str:
@@ -771,18 +797,45 @@ _XACRO_KEYWORDS = frozenset({"macro", "property", "include", "arg", "if", "unles
                              "element", "attribute", "call", "eval"})
 
 
+MAX_MACROS = 2000  # macro definitions looked at (a hostile file may hold millions)
+_MACRO_NAME = re.compile(r"\bname\s*=\s*[\"']([^\"']+)[\"']")
+
+
 def _role_as_written(text: str) -> str:
     """The role of a xacro file that could not be expanded, from its text: no ``<link>``
     outside its macro definitions, but joints or calls of macros it does not define (they
     come from its includer) -> 'fragment'."""
     text = re.sub(r"(?s)<!--.*?-->", "", text)
-    outside = re.sub(r"(?s)<xacro:macro\b.*?</xacro:macro>", "", text)
+    outside = _outside_macros(text)
     if re.search(r"<link[\s>/]", outside):
         return "entry"
-    defined = set(re.findall(r"<xacro:macro\s[^>]*name\s*=\s*[\"']([^\"']+)", text))
     called = {name for name in re.findall(r"<xacro:([\w.-]+)", outside)
-              if name not in _XACRO_KEYWORDS and name not in defined}
+              if name not in _XACRO_KEYWORDS}
+    if called:  # minus the macros it defines itself (each looked for near its tag)
+        for match in itertools.islice(re.finditer(r"<xacro:macro\b", text), MAX_MACROS):
+            tag = text[match.end():match.end() + 400].split(">", 1)[0]
+            found = _MACRO_NAME.search(tag) if "name" in tag else None
+            if found:
+                called.discard(found.group(1))
     return "fragment" if called or re.search(r"<joint[\s>]", outside) else "entry"
+
+
+def _outside_macros(text: str) -> str:
+    """``text`` without its ``<xacro:macro>`` definitions (nested ones too), in one pass."""
+    kept, start, depth = [], 0, 0
+    for match in re.finditer(r"<xacro:macro\b|</xacro:macro\s*>", text):
+        if match.group().startswith("</"):
+            if depth:
+                depth -= 1
+                if depth == 0:
+                    start = match.end()
+        else:
+            if depth == 0:
+                kept.append(text[start:match.start()])
+            depth += 1
+    if depth == 0:
+        kept.append(text[start:])
+    return "".join(kept)
 
 
 # -- what each check read, kept between runs (changed-files mode) -----------------------------
