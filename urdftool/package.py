@@ -307,6 +307,25 @@ def fixture_reason(file: Path, directory: Path) -> str | None:
 _ROOT_TAG = re.compile(r"<(?![?!])(?:[\w.-]+:)?([A-Za-z_][\w.-]*)")
 
 
+def without_comments(text: str) -> str:
+    """``text`` without its XML comments, in one pass (an unclosed one runs to the end; a
+    regex's lazy match is quadratic on thousands of unclosed ``<!--``)."""
+    if "<!--" not in text:
+        return text
+    kept, start = [], 0
+    while True:
+        begin = text.find("<!--", start)
+        if begin < 0:
+            kept.append(text[start:])
+            break
+        kept.append(text[start:begin])
+        end = text.find("-->", begin + 4)
+        if end < 0:
+            break
+        start = end + 3
+    return "".join(kept)
+
+
 def root_tag(file: Path) -> tuple[str | None, bool]:
     """(the local name of a file's root element, whether it defines xacro macros), from its
     first bytes (None: no element found, or unreadable: the check reports it)."""
@@ -314,8 +333,7 @@ def root_tag(file: Path) -> tuple[str | None, bool]:
         head = read_head(file, HEAD_BYTES).decode("utf-8", errors="replace")
     except OSError:
         return None, False
-    head = re.sub(r"<!--.*?-->", "", head, flags=re.DOTALL)
-    head = re.sub(r"<!DOCTYPE[^\[>]*(\[.*?\])?\s*>", "", head, flags=re.DOTALL)
+    head = without_comments(head)  # (a DTD's declarations start with <! too: skipped)
     match = _ROOT_TAG.search(head)
     return (match.group(1) if match else None), re.search(r"<(?:xacro:)?macro\s", head) is not None
 
@@ -701,7 +719,7 @@ def static_includes(reports: list[FileReport],
             if resolved in seen:
                 continue
             seen.add(resolved)
-            for spec in re.findall(_INCLUDE, re.sub(r"(?s)<!--.*?-->", "", text)):
+            for spec in re.findall(_INCLUDE, without_comments(text)):
                 targets, pattern = _include_candidates(spec, Path(resolved).parent, by_name)
                 for target in targets:
                     (wildcard if pattern else exact).setdefault(target, set()).add(resolved)
@@ -805,7 +823,7 @@ def _role_as_written(text: str) -> str:
     """The role of a xacro file that could not be expanded, from its text: no ``<link>``
     outside its macro definitions, but joints or calls of macros it does not define (they
     come from its includer) -> 'fragment'."""
-    text = re.sub(r"(?s)<!--.*?-->", "", text)
+    text = without_comments(text)
     outside = _outside_macros(text)
     if re.search(r"<link[\s>/]", outside):
         return "entry"
