@@ -37,8 +37,8 @@ MAX_BYTES = 256 * 1024
 MAX_SETS = 12  # argument sets per xacro file
 MAX_XACROS = 4000  # xacro files of a package matched against the launch files' names
 _SUBSTITUTION = re.compile(r"\$\((arg|var|find-pkg-share|find-pkg-prefix|find|dirname|env|optenv|"
-                           r"eval|anon)(?![\w-])\s*([^)]*)\)")
-_PAIR = re.compile(r"([A-Za-z_]\w*):=(.*)", re.DOTALL)
+                           r"eval|anon)(?![\w-])([^)$]*)\)")
+_PAIR = re.compile(r"(?<!\w)([A-Za-z_]\w*):=(.*)", re.DOTALL)
 
 # a value: a list of parts, each a literal string, ("arg", NAME), ("pkg", NAME) or ANY
 ANY = ("any", "")
@@ -162,17 +162,15 @@ def _resolve(invocation, binding: dict[str, list], xacros: list[str], package: s
              root: Path):
     """(xacro file, args) for every package xacro file the invocation's file name matches."""
     file, pairs = invocation
-    regex, groups = _file_regex(file, binding, package)
-    if regex is None:
+    pattern = _file_pattern(file, binding, package)
+    if pattern is None:
         return
-    compiled = re.compile(regex)
+    pieces, anchored = pattern
     for rel in xacros:
-        match = compiled.fullmatch(rel)
-        if match is None:
+        captured = _match_path(pieces, rel, anchored)
+        if captured is None:
             continue
-        bound = dict(binding)
-        for group, name in groups.items():
-            bound[name] = [match.group(group)]
+        bound = {**binding, **{name: [value] for name, value in captured.items()}}
         args = {}
         for name, value in pairs.items():
             text = _text(value, bound, package, root, 0)
@@ -181,18 +179,18 @@ def _resolve(invocation, binding: dict[str, list], xacros: list[str], package: s
         yield rel, args
 
 
-def _file_regex(parts: list, binding: dict[str, list], package: str | None,
-                depth: int = 0) -> tuple[str | None, dict[str, str]]:
-    """A regular expression over paths relative to the package root, and its named groups
-    (group -> launch argument)."""
-    pieces: list[str] = []
-    groups: dict[str, str] = {}
+def _file_pattern(parts: list, binding: dict[str, list], package: str | None,
+                  ) -> tuple[list, bool] | None:
+    """(pieces over paths relative to the package root: literal strings, ("cap", NAME) for
+    a launch argument left unbound, ANY for a part that cannot be known; whether it is
+    anchored at the package root), or None (another package's file)."""
+    pieces: list = []
     anchored = False
 
     def add(part, level: int) -> bool:
         nonlocal anchored
         if isinstance(part, str):
-            pieces.append(re.escape(part.strip("'\"")))
+            pieces.append(part.strip("'\""))
         elif part[0] == "pkg":
             if package is not None and part[1] != package:
                 return False  # another package's file
@@ -200,24 +198,66 @@ def _file_regex(parts: list, binding: dict[str, list], package: str | None,
             anchored = True
         elif part[0] == "arg" and part[1] in binding and level < 8:
             return all(add(p, level + 1) for p in binding[part[1]])
-        elif part[0] == "arg" and part[1] not in groups.values():
-            group = f"g{len(groups)}"
-            groups[group] = part[1]
-            pieces.append(f"(?P<{group}>[^/]+?)")
         elif part[0] == "arg":
-            group = next(g for g, n in groups.items() if n == part[1])
-            pieces.append(f"(?P={group})")
+            pieces.append(("cap", part[1]))
         else:
-            pieces.append("[^/]*")
+            pieces.append(ANY)
         return True
 
-    if not all(add(part, depth) for part in parts):
-        return None, {}
-    text = "".join(pieces).lstrip("/")
-    text = re.sub(r"(\\/)+", "/", text).lstrip("/")
-    if not anchored:  # a bare name or a relative path: anywhere in the package
-        text = "(?:.*/)?" + text
-    return text, groups
+    if not all(add(part, 0) for part in parts):
+        return None
+    merged: list = []
+    for piece in pieces:  # literals joined, "//" and a leading "/" dropped
+        if isinstance(piece, str) and merged and isinstance(merged[-1], str):
+            merged[-1] += piece
+        elif piece != "":
+            merged.append(piece)
+    merged = [re.sub("/+", "/", p) if isinstance(p, str) else p for p in merged]
+    if merged and isinstance(merged[0], str):
+        merged[0] = merged[0].lstrip("/")
+    return merged, anchored
+
+
+MAX_TRIES = 10000  # split points tried when matching one path (a few captures at most)
+
+
+def _match_path(pieces: list, rel: str, anchored: bool) -> dict[str, str] | None:
+    """The launch arguments captured when ``pieces`` match all of ``rel`` (not anchored: any
+    tail of it that starts a path part), or None."""
+    starts = [0] if anchored else [0] + [i + 1 for i, c in enumerate(rel) if c == "/"]
+    budget = [MAX_TRIES]
+    for start in starts:
+        found = _match(pieces, 0, rel[start:], {}, budget)
+        if found is not None:
+            return found
+    return None
+
+
+def _match(pieces: list, index: int, text: str, captured: dict[str, str],
+           budget: list[int]) -> dict[str, str] | None:
+    budget[0] -= 1
+    if budget[0] < 0:
+        return None
+    if index == len(pieces):
+        return captured if text == "" else None
+    piece = pieces[index]
+    if isinstance(piece, str):
+        if not text.startswith(piece):
+            return None
+        return _match(pieces, index + 1, text[len(piece):], captured, budget)
+    name = piece[1] if piece[0] == "cap" else None
+    if name is not None and name in captured:  # the same argument again: the same text
+        known = captured[name]
+        return _match(pieces, index + 1, text[len(known):], captured, budget) \
+            if text.startswith(known) else None
+    end = text.find("/")
+    limit = len(text) if end < 0 else end  # a substitution stays inside one path part
+    for cut in range(0 if name is None else 1, limit + 1):
+        found = _match(pieces, index + 1, text[cut:],
+                       {**captured, name: text[:cut]} if name else captured, budget)
+        if found is not None:
+            return found
+    return None
 
 
 def _text(value: list, binding: dict[str, list], package: str | None, root: Path,
@@ -470,11 +510,22 @@ def _parse_xml(text: str):
     return root
 
 
+def _inside_command(value: str) -> str:
+    """The command line of ``$(command 'LINE')`` (else ``value``), found without a regex."""
+    stripped = value.strip()
+    if not stripped.startswith("$(command") or not stripped.endswith(")"):
+        return value
+    body = stripped[len("$(command"):-1].strip()
+    if len(body) >= 2 and body[0] in "'\"" and body[-1] == body[0]:
+        return body[1:-1]
+    return body
+
+
 def _xml_parts(value: str) -> list:
     """``$(arg X)``/``$(var X)`` as launch arguments, ``$(find P)`` as a package, any other
     substitution unknown."""
     # ROS 2: value="$(command 'xacro FILE NAME:=VALUE')": the command line inside
-    value = re.sub(r"\$\(command\s+(['\"])(.*)\1\s*\)", r"\2", value, flags=re.DOTALL)
+    value = _inside_command(value)
     parts: list = []
     last = 0
     for match in _SUBSTITUTION.finditer(value):

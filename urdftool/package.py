@@ -32,7 +32,7 @@ from urdftool.errors import ToolError
 from urdftool.files import read_head, read_regular
 from urdftool.report import FileReport
 from urdftool.roots import resolved
-from urdftool.source import ROBOT_SUFFIXES, shown_path
+from urdftool.source import _INCLUDE, ROBOT_SUFFIXES, shown_path
 
 # what a file that only defines things holds at its top level, once expanded
 DEFINITION_TAGS = frozenset({"material", "gazebo", "ros2_control", "transmission",
@@ -701,8 +701,6 @@ def static_includes(reports: list[FileReport],
                     ) -> tuple[dict[str, set[str]], dict[str, set[str]]]:
     """(resolved file -> the resolved files of the run whose include lines name it exactly,
     the same for names with wildcards: a file only a pattern names may be another entry)."""
-    from urdftool.source import _INCLUDE
-
     by_name: dict[str, list[str]] = {}
     for report in reports:
         for name in {report.path, *report.texts}:
@@ -726,8 +724,8 @@ def static_includes(reports: list[FileReport],
     return exact, wildcard
 
 
-_SUBSTITUTION = re.compile(r"\$\{[^}]*\}|\$\((?:arg|env|eval)\s[^)]*\)")
-_OPTENV = re.compile(r"\$\(optenv\s+\S+\s*([^)]*)\)")
+_SUBSTITUTION = re.compile(r"\$\{[^}$]*\}|\$\((?:arg|env|eval)\s[^)$]*\)")
+_OPTENV = re.compile(r"\$\(optenv\s+[^\s)$]+(\s[^)$]*)?\)")
 
 
 def _include_candidates(spec: str, base: Path, by_name: dict[str, list[str]],
@@ -735,34 +733,32 @@ def _include_candidates(spec: str, base: Path, by_name: dict[str, list[str]],
     """The files of the run an include's filename can name: ``$(find PKG)/rest`` as
     ``rest`` under a folder named PKG, substitutions as wildcards within one path part,
     ``$(optenv X default)`` as its default, other names relative to the including file."""
-    spec = _OPTENV.sub(lambda m: m.group(1).strip() or "*", spec.strip())
-    found = re.match(r"\$\(find\s+([^)\s]+)\)/?(.*)", spec)
+    spec = _OPTENV.sub(lambda m: (m.group(1) or "").strip() or "*", spec.strip())
+    found = re.match(r"\$\(find\s+([^)\s$]+)\)/?(.*)", spec)
     pattern = _SUBSTITUTION.sub("*", found.group(2) if found else spec)
     name = pattern.rsplit("/", 1)[-1]
     if not name or "$(" in pattern:
         return [], False
-    if found:
-        regex = ".*/" + _wildcards(pattern)
-    elif pattern.startswith("/"):
-        regex = _wildcards(pattern)
-    else:
-        regex = _wildcards(os.path.normpath(str(base / pattern.replace("*", "\0")))
-                           .replace("\0", "*"))
-    compiled = re.compile(regex)
     names = [n for n in by_name if fnmatch.fnmatchcase(n, name)] if "*" in name else \
         ([name] if name in by_name else [])
-    result = [path for n in names for path in by_name[n] if compiled.fullmatch(path)]
-    if found:  # in the package of that name: a folder so named, or its package.xml says so
-        package = found.group(1)
-        result = [path for path in result
-                  if f"/{package}/" in path and re.fullmatch(
-                      ".*/" + re.escape(package) + "/" + regex[3:], path)
-                  or _package_name(Path(path)) == package]
+    candidates = [path for n in names for path in by_name[n]]
+    if found:  # rest under the package: a folder of that name, or its package.xml says so
+        package, parts = found.group(1), [p for p in pattern.split("/") if p not in ("", ".")]
+        result = [path for path in candidates if _tail_matches(path, parts) and (
+            path.split("/")[-len(parts) - 1] == package or _package_name(Path(path)) == package)]
+    else:
+        full = pattern if pattern.startswith("/") else os.path.normpath(str(base / pattern))
+        parts = full.split("/")
+        result = [path for path in candidates
+                  if len(path.split("/")) == len(parts) and _tail_matches(path, parts)]
     return result, "*" in pattern
 
 
-def _wildcards(text: str) -> str:
-    return "[^/]*".join(re.escape(part) for part in text.split("*"))
+def _tail_matches(path: str, parts: list[str]) -> bool:
+    """Whether the last path parts of ``path`` match ``parts`` (``*`` within one part)."""
+    own = path.split("/")
+    return len(own) > len(parts) - 1 and all(
+        fnmatch.fnmatchcase(mine, theirs) for mine, theirs in zip(own[-len(parts):], parts))
 
 
 _PACKAGE_NAMES: dict[Path, str | None] = {}

@@ -189,7 +189,7 @@ def detect_kind(path: Path, text: str) -> str:
     if re.search(pattern, text) and re.search(pattern, without_comments(text)):
         return "xacro"
     if path.suffix == ".urdf" and "<link" not in text and re.search(_XACRO_USE, text) and (
-            re.search(_XACRO_USE, re.sub(_COMMENT, "", text))):
+            re.search(_XACRO_USE, without_comments(text))):
         return "xacro"  # no robot a URDF consumer could read: a xacro fragment so named
     return "urdf"
 
