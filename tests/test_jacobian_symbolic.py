@@ -265,3 +265,35 @@ def test_no_compact_closed_form_is_a_clear_error(write):
     assert result.code == 2
     assert "no compact closed form; use the numeric Jacobian (--q)" in result.err
     assert len(result.err.strip().splitlines()) == 1
+
+
+# A vendor's rounded pi/2 (UR's kinematics YAML writes 1.570796327): cos is -2.05e-10
+ROUNDED = _robot("rounded", [
+    ("j1", "revolute", "base", "l1", "0 0 0.16", "0 0 0", "0 0 1", (-3, 3)),
+    ("j2", "revolute", "l1", "l2", "0 0 0", "1.570796327 0 0", "0 0 1", (-3, 3)),
+    ("j3", "revolute", "l2", "l3", "-0.425 0 0", "0 0 0", "0 0 1", (-3, 3)),
+    ("tip", "fixed", "l3", "tool", "-0.39 0 0", "0 0 0"),
+])
+
+
+def test_angles_near_multiples_of_half_pi_are_recognised_and_said(write):
+    import math
+
+    path = write(ROUNDED)
+    assert abs(math.cos(1.570796327)) > 1e-10  # what the old 1e-10 tolerance let through
+    result = run_urdftool("jacobian", "--symbolic", path)
+    assert result.code == 0, result.err
+    expressions = [line for line in result.out.splitlines() if line.startswith(("p", "J["))]
+    assert len(expressions) == 3 + 6 * 3
+    assert not any("e-1" in line for line in expressions), result.out  # no 2.05e-10*sin(q2)
+    note = next(line for line in result.out.splitlines() if "taken as exact" in line)
+    assert "origin of 'j2'" in note and f"off by up to {abs(math.cos(1.570796327)):.3g}" in note
+    assert "within 1e-06" in note
+    chain = extract_chain(load_robot(str(path)), None, None)
+    _compare(chain, symbolic_kinematics(chain), tol=1e-8)  # the snap moves the tip < 1e-9 m
+    # the numeric table keeps the angle as written: its Jacobian is pinocchio's/ours exactly
+    numeric = json.loads(run_urdftool("jacobian", "--format", "json", "--q", "0.3,0.2,0.1",
+                                      path).out)
+    expected = geometric_jacobian(chain, np.array([0.3, 0.2, 0.1]))
+    assert np.array(numeric["J"]).shape == expected.shape
+    assert np.array_equal(np.array(numeric["J"]), expected)

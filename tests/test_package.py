@@ -326,3 +326,27 @@ def test_included_files_are_named_as_the_entry_was(demo, monkeypatch, absolute):
     _, report, _ = check("--changed", str(Path(given) / "urdf" / "wheel.xacro"))
     paths = {d["path"] for d in findings(report)} | {f["path"] for f in report["files"]}
     assert paths and all(Path(p).is_absolute() == absolute for p in paths), paths
+
+
+def test_changed_fragment_is_checked_through_its_entries_only(demo, monkeypatch):
+    """Issue 23.8: with what each check read known from the last run, an edited macro file
+    re-checks the entries that include it, and not itself alone (its findings come through
+    them); the findings are those of a cold run."""
+    from urdftool import check as check_module
+
+    wheel = demo / "urdf" / "wheel.xacro"
+    assert check("--changed", "urdf/wheel.xacro")[0] == 0  # cold: every file of the package
+    edit(wheel, '<axis xyz="0 0 1"/>', '<axis xyz="0 0 0"/>')
+    checked = []
+    real = check_module.check_file
+    monkeypatch.setattr(check_module, "check_file",
+                        lambda path, *rest: checked.append(str(path)) or real(path, *rest))
+    code, report, _ = check("--changed", "urdf/wheel.xacro")
+    assert checked == ["urdf/robot.urdf.xacro"]
+    line = line_of(wheel, "<axis")
+    assert code == 1 and [(d["rule"], d["path"], d["line"]) for d in findings(report)] == \
+        [("joint.zero-axis", "urdf/wheel.xacro", line)]
+    # the same findings as without the cache
+    monkeypatch.setattr(check_module, "check_file", real)
+    _, cold, _ = check("--no-cache", "--changed", "urdf/wheel.xacro")
+    assert findings(cold) == findings(report)

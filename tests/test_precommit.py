@@ -143,10 +143,12 @@ def test_hook_installs_the_mesh_extra():
     import tomllib
     import yaml
 
-    [hook] = yaml.safe_load((ROOT / ".pre-commit-hooks.yaml").read_text())
+    hooks = {h["id"]: h for h in yaml.safe_load((ROOT / ".pre-commit-hooks.yaml").read_text())}
+    hook = hooks["urdftool"]
     extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"][
         "optional-dependencies"]
-    assert hook["additional_dependencies"] == extras["mesh"]
+    for each in hooks.values():
+        assert each["additional_dependencies"] == extras["mesh"]
     assert hook["entry"] == "urdftool check --changed --" and hook["require_serial"] is True
 
 
@@ -236,3 +238,31 @@ def test_shipped_hook_sees_every_input_of_an_entry(shipped, tmp_path):
     assert passed.returncode == 0, passed.stdout
     assert re.search(r"urdftool check\.+Passed", passed.stdout), passed.stdout
     assert "error" not in passed.stdout and "file(s)" not in passed.stdout
+
+
+def test_shipped_fix_hook_fixes_the_staged_files(shipped, tmp_path):
+    """The second hook id, urdftool-fix: a typo'd attribute in a staged macro file is fixed in
+    place through the entry that includes it; pre-commit fails the commit (a file changed) and
+    the working tree is the last commit's again."""
+    repo, rev, home = shipped
+    config = f"repos:\n  - repo: {repo}\n    rev: {rev}\n    hooks:\n      - id: urdftool-fix\n"
+    team = _repo(tmp_path / "team", config)
+    package = team / "demo_description"
+    shutil.copytree(DEMO, package)
+    env = _env(home)
+    subprocess.run([sys.executable, "-m", "pre_commit", "install"], cwd=team, env=env,
+                   check=True, capture_output=True)
+    assert _commit(team, env, "clean").returncode == 0
+    wheel = package / "urdf" / "wheel.xacro"
+    entry = package / "urdf" / "robot.urdf.xacro"
+    written = wheel.read_text()
+    wheel.write_text(written.replace(' rpy="-1.5707963267948966 0 0"',
+                                     ' ryp="-1.5707963267948966 0 0"'))
+    entry_before = entry.read_text()
+    first = _commit(team, env, "typo")
+    assert first.returncode != 0 and "files were modified by this hook" in first.stdout, \
+        first.stdout
+    assert wheel.read_text() == written  # fixed back, byte for byte
+    assert entry.read_text() == entry_before  # only the staged file is written
+    # the working tree is the last commit's again (the typo is still staged: the user adds)
+    assert _git(team, "diff", "HEAD", "--", "demo_description").stdout == ""

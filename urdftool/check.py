@@ -19,7 +19,7 @@ from pathlib import Path
 from urdftool import budget
 from urdftool import rules as rules_module
 from urdftool.config import Config, suppressions
-from urdftool.errors import ToolError
+from urdftool.errors import NothingToCheck, ToolError
 from urdftool.loader import load, run_roots
 from urdftool.model import build_robot
 from urdftool.package import (
@@ -30,6 +30,7 @@ from urdftool.package import (
     plan,
     role,
     seen_files,
+    settle,
     store_reads,
     unaffected,
 )
@@ -59,6 +60,7 @@ class CheckOptions:
     # shows only their hints, so the costly ones are not derived (``rules.UNSAFE_EDITS``)
     unsafe_edits: bool = True
     selection: object = None  # package.Selection: what directories' files are checked
+    config_file: Path | None = None  # --config: this configuration for every file
 
 
 LOOKS = 3  # rounds of look-through: a fix can uncover more (a macro call's body)
@@ -387,13 +389,13 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
     options.load = copy.copy(options.load)
     options.load.roots = run_roots(paths, options.load)
     selection = options.selection if options.selection is not None else Selection()
-    files, given = plan(paths, options.changed, selection)
+    files, given = plan(paths, options.changed, selection, options.config_file)
     if not files and given is not None:  # changed files of no package with robot files
         report = Report([], [])
         report.seen = set()
         return report
     if not files:
-        raise ToolError("no robot files (*.urdf, *.xacro, *.sdf) found in " + ", ".join(paths))
+        raise NothingToCheck("no robot files (*.urdf, *.xacro, *.sdf) found in " + ", ".join(paths))
     _single_threaded_blas()
     # a run allocates many short-lived objects (XML proxies, model records): the young
     # generation collected 30x less often, and so the whole heap rarely walked (~4% of a run)
@@ -403,23 +405,16 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
         # one budget for the run: --timeout for each distinct file found (a file listed many
         # times in the configuration's entries shares its own)
         budget.start(options.load.timeout, len({os.path.realpath(f.path) for f in files}), started)
-        todo, reports = unaffected(files, given, options.load)  # changed files: what reads them
-        targets = [files[i] for i in todo]
-        jobs = min(options.jobs or default_jobs([t.path for t in targets]), len(targets))
-        if jobs <= 1 or options.debug or not hasattr(os, "fork"):  # --debug: tracebacks here
-            checked = []
-            for target in targets:
-                checked.append(check_file(target.path, options, target))
-                if progress is not None:
-                    progress(len(checked), len(targets))
-        elif options.jobs is None:  # measured before forking: the estimate cannot see meshes
-            checked = _check_measured(targets, options, jobs, progress)
-        else:
-            checked = _check_in_workers(targets, options, jobs, progress)
+        todo, reports, waiting = unaffected(files, given, options.load)  # changed files:
+        checked = _check_targets(files, todo, options, progress)  # what reads them
         for i, report in zip(todo, checked):
             reports[i] = report
             if given is not None:
                 store_reads(files[i], options.load, report)
+        later = settle(files, reports, waiting, options.load) if waiting else []
+        for i, report in zip(later, _check_targets(files, later, options, progress)):
+            reports[i] = report
+            store_reads(files[i], options.load, report)
         shown, notes = classify(files, reports, given, selection)
         report = Report(_one_per_missing_package(merge_repeats(shown)), notes)
         report.seen = seen_files(files, shown, reports, given)
@@ -462,6 +457,26 @@ def _one_per_missing_package(files: list[FileReport]) -> list[FileReport]:
             report.diagnostics[index] = d._replace(
                 message=f"{d.message}; {len(places)} other expansion(s) stop on it too: {shown}")
     return files
+
+
+def _check_targets(files: list, todo: list[int], options: CheckOptions, progress) -> list:
+    """The reports of ``files[i]`` for ``i`` in ``todo``, in that order: in this process, or
+    in worker processes when that pays."""
+    if not todo:
+        return []
+    targets = [files[i] for i in todo]
+    jobs = min(options.jobs or default_jobs([t.path for t in targets]), len(targets))
+    if jobs <= 1 or options.debug or not hasattr(os, "fork"):  # --debug: tracebacks here
+        checked = []
+        for target in targets:
+            checked.append(check_file(target.path, options, target))
+            if progress is not None:
+                progress(len(checked), len(targets))
+    elif options.jobs is None:  # measured before forking: the estimate cannot see meshes
+        checked = _check_measured(targets, options, jobs, progress)
+    else:
+        checked = _check_in_workers(targets, options, jobs, progress)
+    return checked
 
 
 PROBE = 0.5  # seconds of checking in this process before deciding on workers

@@ -129,6 +129,21 @@ def load_config(start: Path) -> Config:
     return parse_config(table, path)
 
 
+def load_config_file(path: Path) -> Config:
+    """``--config FILE``: that configuration (a ``urdftool.toml``, or a ``pyproject.toml``'s
+    ``[tool.urdftool]``); ToolError when it is not one."""
+    if not path.is_file():
+        raise ToolError(f"{path}: no such configuration file")
+    data = _read_toml(path)
+    if path.name == "pyproject.toml" or "tool" in data:
+        tool = data.get("tool", {})
+        table = tool.get("urdftool") if isinstance(tool, dict) else None
+        if not isinstance(table, dict):
+            raise ToolError(f"{path}: no [tool.urdftool] table")
+        return parse_config(table, path)
+    return parse_config(data, path)
+
+
 def parse_config(table: dict, path: Path) -> Config:
     """Validate one configuration table; ToolError on anything unknown or mistyped."""
     where = f"{path}: " + ("" if path.name == "urdftool.toml" else "tool.urdftool.")

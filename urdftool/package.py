@@ -351,7 +351,16 @@ def package_root(path: Path) -> Path:
 
 
 def _config_of(path: Path, memo: dict):
-    """The parsed configuration that applies to ``path`` (memoised per file), or None."""
+    """The parsed configuration that applies to ``path`` (memoised per file), or None; with
+    ``--config FILE`` (``memo["file"]``) that one."""
+    chosen = memo.get("file")
+    if chosen is not None:
+        configs = memo.setdefault("configs", {})
+        if chosen not in configs:
+            from urdftool.config import load_config_file
+
+            configs[chosen] = load_config_file(chosen)
+        return configs[chosen]
     found = find_config(path, memo.setdefault("directories", {}))
     if found is None:
         return None
@@ -362,14 +371,15 @@ def _config_of(path: Path, memo: dict):
 
 
 def plan(paths: list[str], changed: bool = False, selection: Selection | None = None,
-         ) -> tuple[list[Target], set[str] | None]:
+         config_file: Path | None = None) -> tuple[list[Target], set[str] | None]:
     """The targets of a run, and in changed-files mode the given files (resolved). Files
     found in directories are kept or skipped by ``selection`` (exclusions, ignore markers,
     .gitignore; its ``skipped`` counts them) and test fixtures are skipped; files given by
     name are checked, except in changed-files mode (a hook names every file a commit
-    changes: exclusions apply to them too)."""
+    changes: exclusions apply to them too). With ``config_file`` (``--config``) that
+    configuration for every file."""
     selection = selection if selection is not None else Selection()
-    configs: dict = {}
+    configs: dict = {"file": config_file.resolve()} if config_file is not None else {}
     files: list[Path] = []
     given: set[str] | None = set() if changed else None
 
@@ -882,33 +892,66 @@ def _stamp(path: str) -> list | None:
 
 
 def unaffected(targets: list[Target], given: set[str] | None,
-               load_options) -> tuple[list[int], list]:
+               load_options) -> tuple[list[int], list, list[int]]:
     """(the indices of the targets to check, a report per target: for those that need no check
-    in changed-files mode, what they read from the cache; None for the others)."""
+    in changed-files mode, what they read from the cache, None for the others; the indices of
+    fragments whose check waits: ``settle``).
+
+    A fragment that an entry read when last checked (even if a file changed since) is checked
+    through that entry: its own check waits for the entries' (issue 23.8: a hook on an edited
+    macro file checks the entries that include it, not every file between them)."""
     reports: list = [None] * len(targets)
     if given is None:
-        return list(range(len(targets))), reports
+        return list(range(len(targets))), reports, []
     known = [cached_reads(target, load_options) for target in targets]
+    last = [reads if reads is not None else cached_reads(target, load_options, stale=True)
+            for target, reads in zip(targets, known)]
     read_by_others: set[str] = set()
-    for reads in known:
+    read_by_entries: set[str] = set()
+    for target, reads in zip(targets, last):
         if reads is not None:
             read_by_others.update(reads[0])
-    todo = []
+            if reads[1] == "entry" or target.configured:
+                read_by_entries.update(reads[0])
+    todo, waiting = [], []
     for index, (target, reads) in enumerate(zip(targets, known)):
-        if reads is None or given.intersection(reads[0]) or _launch_triggers(target, given) or (
-                str(Path(target.path).resolve()) in given  # a given fragment that an entry
-                and not (reads[1] == "fragment" and str(Path(target.path).resolve())  # reads
-                         in read_by_others)):  # is checked through that entry only
-            todo.append(index)
+        resolved = str(Path(target.path).resolve())
+        before = last[index]
+        if before is not None and before[1] == "fragment" and not target.configured \
+                and resolved in read_by_entries:
+            waiting.append(index)
+        elif reads is None or given.intersection(reads[0]) or _launch_triggers(target, given) or (
+                resolved in given  # a given fragment that an entry reads
+                and not (reads[1] == "fragment" and resolved in read_by_others)):  # is checked
+            todo.append(index)  # through that entry only
         else:
             reports[index] = FileReport(target.path, None)
             reports[index].includes, reports[index].role = reads
-    return todo, reports
+    return todo, reports, waiting
 
 
-def cached_reads(target: Target, load_options) -> tuple[tuple[str, ...], str] | None:
+def settle(targets: list[Target], reports: list, waiting: list[int], load_options) -> list[int]:
+    """The waiting fragments (``unaffected``) that no entry read this time, to check now; the
+    others get the report of their last check's reads (``classify`` shows them through their
+    entries)."""
+    read = {p for t, r in zip(targets, reports) if r is not None
+            and (r.role == "entry" or t.configured) for p in r.includes}
+    todo = []
+    for index in waiting:
+        target = targets[index]
+        before = cached_reads(target, load_options, stale=True)
+        if before is None or str(Path(target.path).resolve()) not in read:
+            todo.append(index)
+        else:
+            reports[index] = FileReport(target.path, None)
+            reports[index].includes, reports[index].role = before
+    return todo
+
+
+def cached_reads(target: Target, load_options,
+                 stale: bool = False) -> tuple[tuple[str, ...], str] | None:
     """(the files a check of ``target`` read besides itself, its role) when recorded and none
-    of those files changed since; else None."""
+    of those files changed since (``stale``: even if some did); else None."""
     import json
 
     from urdftool import cache
@@ -918,7 +961,9 @@ def cached_reads(target: Target, load_options) -> tuple[tuple[str, ...], str] | 
     try:
         data = json.loads(_reads_entry(target, load_options).read_text(encoding="utf-8"))
         stamps, role = data["files"], data["role"]
-        if not all(isinstance(s, list) and _stamp(s[0]) == s for s in stamps):
+        if not all(isinstance(s, list) and (stale or _stamp(s[0]) == s) for s in stamps):
+            return None
+        if not all(isinstance(s[0], str) for s in stamps):
             return None
         return tuple(s[0] for s in stamps[1:]), role
     except (OSError, ValueError, KeyError, TypeError, IndexError, RuntimeError):

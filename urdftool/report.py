@@ -469,3 +469,45 @@ def render_text(report: Report, show_info: bool = False, colour: bool = False,
 
         text = guard(text)
     return text
+
+
+def format_junit(report: Report, testname: str = "urdftool", strict: bool = False,
+                 elapsed: float = 0.0) -> str:
+    """JUnit/xunit XML (``colcon test-result``, CI test views; issue 23): one testsuite, one
+    testcase per checked file (``ament_xmllint``'s layout: ``name`` the file, ``classname``
+    the test name). A file with findings that fail the run (errors; warnings too with
+    ``strict``) is a failure whose text lists them as ``path:line:col: severity rule:
+    message``; the other findings are the testcase's ``system-out``. File content is escaped
+    (``display.clean``): no control character reaches the XML."""
+    from xml.sax.saxutils import escape, quoteattr
+
+    from urdftool.display import clean, diagnostic_line
+
+    failing = ("error", "warning") if strict else ("error",)
+    cases, failures = [], 0
+    for file in report.files:
+        lines = [(d.severity in failing,  # (it cleans the path and the message)
+                  diagnostic_line(d.path, d.line, d.column, d.severity, d.rule, d.message))
+                 for d in file.diagnostics]
+        bad = [line for fails, line in lines if fails]
+        rest = [line for fails, line in lines if not fails]
+        case = f'  <testcase name={quoteattr(clean(file.path))} classname={quoteattr(testname)}'
+        if not bad and not rest:
+            cases.append(case + "/>")
+            continue
+        case += ">\n"
+        if bad:
+            failures += 1
+            first = bad[0] + (f" (and {len(bad) - 1} more)" if len(bad) > 1 else "")
+            case += (f"    <failure message={quoteattr(first)} type=\"urdftool\">"
+                     + escape("\n".join(bad)) + "</failure>\n")
+        if rest:
+            case += f"    <system-out>{escape(chr(10).join(rest))}</system-out>\n"
+        cases.append(case + "  </testcase>")
+    checked = escape("".join(f"\n* {clean(f.path)}" for f in report.files))
+    notes = escape("".join(f"\n{clean(n)}" for n in report.notes))
+    return ('<?xml version="1.0" encoding="UTF-8"?>\n'
+            f"<testsuite name={quoteattr(testname)} tests=\"{len(report.files)}\" errors=\"0\" "
+            f"failures=\"{failures}\" time=\"{elapsed:.3f}\">\n"
+            + "".join(c + "\n" for c in cases)
+            + f"  <system-out>Checked files:{checked}{notes}</system-out>\n</testsuite>")

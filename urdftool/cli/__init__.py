@@ -37,6 +37,11 @@ COMMANDS = {
     "doctor": "optional libraries and --untrusted sandbox layers on this machine",
     "lsp": "language server (LSP, stdio): the findings, fixes and numbers in the editor",
 }
+ALIASES = {"rule": "rules"}  # ruff's `ruff rule RULE`
+
+
+class UsageError(ToolError):
+    """A mistyped command line: one line on stderr, exit 2."""
 
 
 class LazyGroup(click.Group):
@@ -46,10 +51,23 @@ class LazyGroup(click.Group):
         return list(COMMANDS)
 
     def get_command(self, ctx, name):
+        name = ALIASES.get(name, name)
         if name not in COMMANDS:
             return None
         module = importlib.import_module(f"urdftool.cli.{name}")
         return module.command
+
+    def resolve_command(self, ctx, args):
+        name = args[0] if args else ""
+        if self.get_command(ctx, name) is None and not name.startswith("-"):
+            import difflib
+
+            close = (difflib.get_close_matches(name, list(COMMANDS), n=1, cutoff=0.6)
+                     or difflib.get_close_matches(name, list(ALIASES), n=1, cutoff=0.6))
+            hint = f"; did you mean '{close[0]}'?" if close else \
+                f"; the commands: {', '.join(COMMANDS)}"
+            raise UsageError(f"no command {name!r}{hint}")
+        return super().resolve_command(ctx, args)
 
     def format_commands(self, ctx, formatter):
         rows = [(name, help_text) for name, help_text in COMMANDS.items()]
@@ -57,8 +75,27 @@ class LazyGroup(click.Group):
             formatter.write_dl(rows)
 
 
+COLOR = {"when": "auto"}  # --color (the group's or a command's): auto, always, never
+
+
+def _set_color(ctx, param, value):
+    if value is not None:
+        COLOR["when"] = value
+    return value
+
+
+def color_option(function):
+    """``--color auto|always|never`` (ruff's): auto colours a terminal unless NO_COLOR is set;
+    FORCE_COLOR colours a pipe too. Accepted before or after the command name."""
+    return click.option("--color", type=click.Choice(("auto", "always", "never")),
+                        default=None, expose_value=False, callback=_set_color, is_eager=True,
+                        help="Colour the output: auto (a terminal, unless NO_COLOR is set; "
+                             "FORCE_COLOR forces it), always, never.")(function)
+
+
 @click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="urdftool")
+@color_option
 @click.option("--debug", is_flag=True, envvar="URDFTOOL_DEBUG",
               help="Show Python tracebacks (for reporting bugs in urdftool).")
 @click.pass_context
@@ -72,8 +109,8 @@ def cli(ctx, debug):
 
 
 def format_option(*choices: str, default: str = "text"):
-    return click.option("--format", "fmt", type=click.Choice(choices), default=default,
-                        show_default=True, help="Output format.")
+    return click.option("--format", "--output-format", "fmt", type=click.Choice(choices),
+                        default=default, show_default=True, help="Output format.")
 
 
 def package_option(function):
@@ -240,8 +277,19 @@ def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | Non
     from urdftool.loader import load
     from urdftool.model import build_robot
 
-    source = load(path, load_options(packages, xacro_args or {}))
+    options = load_options(packages, xacro_args or {})
+    source = load(path, options)
     robot = build_robot(source)
+    if source.root is None or not robot.links or any(  # read it as check does: through
+            rule.startswith("xml.") for rule, _ in source.problems):  # its safe fixes
+        fixed = _through_safe_fixes(path, options)
+        if fixed is not None:
+            source, robot, count = fixed
+            if source.root is not None and source.root.tag == "robot" and robot.links:
+                from urdftool.display import clean  # (a refusal below stays one line)
+
+                echo(f"urdftool: {clean(path)}: read through {count} safe fix(es), as check "
+                     f"reads it ('urdftool check {clean(path)}' lists them)", err=True)
     # a refused expression or an exceeded limit: said, located, and the run fails (exit 1);
     # the robot is still shown with the expression's placeholder value where it can be built
     refusals = [finding for rule, finding in source.problems if rule in REFUSING_RULES]
@@ -266,6 +314,29 @@ def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | Non
             loc.path if loc else path, loc.line if loc else None, loc.column if loc else None,
             "error", rule, f"{first.message} ({advice})"))
     return robot
+
+
+def _through_safe_fixes(path: str, options):
+    """(source, robot, fixes applied) of ``path`` read through its safe fixes, in memory, as
+    ``check`` looks through them (issue 23.7: a reading command refuses only what check cannot
+    read either); None when no safe fix changes it."""
+    from urdftool.check import CheckOptions, overlay_options
+    from urdftool.fix import fix_file
+    from urdftool.loader import load
+    from urdftool.model import build_robot
+
+    result = fix_file(path, CheckOptions(load=options), unsafe=False)
+    changed = result.changed()
+    if not changed:
+        return None
+    reading = overlay_options(options, {n: result.texts[n] for n in changed})
+    source = load(path, reading)
+    if source.kind == "xacro" and source.root is None and any(  # past an undefined name (a
+            rule == "xacro.error" and "is not defined" in f.message  # missing include's
+            for rule, f in source.problems):  # property), as check reads on
+        reading.lenient = True
+        source = load(path, reading)
+    return source, build_robot(source), result.fixed
 
 
 def stdout_console():
@@ -345,8 +416,17 @@ def print_finding(path, line, column, severity: str, rule: str | None, message: 
 
 
 def _colour(stream) -> bool:
+    """Whether to colour what goes to ``stream``: --color always/never, else NO_COLOR (set and
+    not empty: no colour), FORCE_COLOR (set and not empty: colour), else a terminal."""
+    when = COLOR["when"]
+    if when != "auto":
+        return when == "always"
+    if os.environ.get("NO_COLOR"):
+        return False
+    if os.environ.get("FORCE_COLOR"):
+        return True
     isatty = getattr(stream, "isatty", None)
-    return bool(isatty and isatty()) and not os.environ.get("NO_COLOR")
+    return bool(isatty and isatty())
 
 
 class Progress:
@@ -409,12 +489,20 @@ def main(argv: list[str] | None = None) -> None:
     from urdftool import files
 
     files.READ.clear()  # the "files read" set of this run (a process may run several: tests)
+    COLOR["when"] = "auto"
     try:
         code = cli.main(args=argv, prog_name="urdftool", standalone_mode=False)
         if FAILED and not code:
             code = 1
     except click.exceptions.Exit as exc:
         sys.exit(exc.exit_code)
+    except click.UsageError as exc:  # one line (click's own: usage, a blank line, the error)
+        from urdftool.display import clean
+
+        where = exc.ctx.command_path if exc.ctx is not None else "urdftool"
+        echo(f"{clean(where)}: {clean(exc.format_message())} (see '{clean(where)} --help')",
+             err=True)
+        sys.exit(2)
     except click.ClickException as exc:
         exc.show()
         sys.exit(2)

@@ -11,6 +11,7 @@ import click
 from urdftool.cli import (
     PathsCommand,
     _colour,
+    color_option,
     format_option,
     load_options,
     package_option,
@@ -20,8 +21,12 @@ from urdftool.cli import (
 
 
 @click.command("check", cls=PathsCommand)
-@click.argument("inputs", nargs=-1, required=True, metavar="PATH... [NAME:=VALUE...]")
-@format_option("text", "json", "sarif", "github")
+@click.argument("inputs", nargs=-1, metavar="[PATH...] [NAME:=VALUE...]")
+@format_option("text", "json", "sarif", "github", "junit")
+@color_option
+@click.option("--config", "config_file", type=click.Path(dir_okay=False), metavar="FILE",
+              help="The configuration (urdftool.toml, or a pyproject.toml's [tool.urdftool]) "
+                   "for every file of the run, instead of the nearest one above each.")
 @package_option
 @untrusted_options
 @click.option("--strict", is_flag=True, default=None, help="Warnings fail the run too (exit 1).")
@@ -92,11 +97,12 @@ from urdftool.cli import (
                    "`respect-gitignore`). Folders with COLCON_IGNORE, AMENT_IGNORE or "
                    "CATKIN_IGNORE are always skipped.")
 @click.pass_context
-def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixes, diff, output,
-            output_file, extra_outputs,
+def command(ctx, inputs, fmt, config_file, packages, strict, select, ignore, fix, unsafe_fixes,
+            diff, output, output_file, extra_outputs,
             show_info, statistics, exit_zero, quiet, in_place, sdf_model, model_paths, no_cache,
             jobs, changed, baseline, write_baseline, exclude, extend_exclude, respect_gitignore):
     """Lint robot descriptions (*.urdf, *.xacro, *.urdf.xacro, *.sdf); all findings in one pass.
+    Without PATH: the current directory.
 
     Exit code 0: no errors (with --strict: no warnings either); 1: findings; 2: could not check.
     """
@@ -108,8 +114,15 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixe
     cache.ENABLED = not no_cache
     paths, xacro_args = split_args(inputs)
     if not paths:
-        raise ToolError("check needs at least one PATH")
-    config = load_config(Path(paths[0]))
+        if changed:  # a hook given no files: nothing changed
+            ctx.exit(0)
+        paths = ["."]
+    if config_file:
+        from urdftool.config import load_config_file
+
+        config = load_config_file(Path(config_file))
+    else:
+        config = load_config(Path(paths[0]))
 
     def split(values):
         return [part.strip() for value in values for part in value.split(",") if part.strip()]
@@ -119,6 +132,7 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixe
     options = CheckOptions(load_options(packages, xacro_args), split(select), split(ignore),
                            config, ctx.obj.get("debug", False))
     options.changed = changed
+    options.config_file = Path(config_file) if config_file else None
     options.load.sdf_model = sdf_model
     options.load.sdf_model_paths = list(model_paths)
     options.jobs = jobs
@@ -188,11 +202,14 @@ def command(ctx, inputs, fmt, packages, strict, select, ignore, fix, unsafe_fixe
             text += ("\n" if text else "") + summary_line(report, True, colour)
         text += "\n" if text else ""
     else:
-        text = _rendered(report, fmt, show_info, colour, quiet, annotate)
+        text = _rendered(report, fmt, show_info, colour,  # changed files no check reads:
+                         quiet or (changed and not report.files), annotate,  # silent
+                         strict if strict is not None else config.strict)
     for target in targets:  # once more: the baseline compared with was read since
         check_target(target, paths)
     for extra_fmt, target in extras:
-        _write(_rendered(report, extra_fmt, show_info, False, quiet, annotate), target, paths)
+        _write(_rendered(report, extra_fmt, show_info, False, quiet, annotate,
+                         strict if strict is not None else config.strict), target, paths)
     _write(text, report_to, paths)
     if exit_zero:
         ctx.exit(0)
@@ -217,8 +234,9 @@ def _extra_outputs(values) -> list[tuple[str, str]]:
 
 
 def _rendered(report, fmt: str, show_info: bool, colour: bool, quiet: bool,
-              annotate: set[str] | None = None) -> str:
-    """The report in ``fmt`` (github: ``annotate`` only those files, see ``format_github``)."""
+              annotate: set[str] | None = None, strict: bool = False) -> str:
+    """The report in ``fmt`` (github: ``annotate`` only those files, see ``format_github``;
+    junit: ``strict`` makes warnings failures too)."""
     from urdftool.rules import load_all
 
     if fmt == "json":
@@ -229,6 +247,10 @@ def _rendered(report, fmt: str, show_info: bool, colour: bool, quiet: bool,
         from urdftool.report import format_sarif
 
         return format_sarif(report, load_all()) + "\n"
+    if fmt == "junit":
+        from urdftool.report import format_junit
+
+        return format_junit(report, strict=strict) + "\n"
     if fmt == "github":
         from urdftool.report import format_github
 
@@ -244,11 +266,16 @@ def _run(paths, options, fmt: str, report_to: str | None, quiet: bool, extras=()
     a SARIF document (its error a tool execution notification) before the exit code 2."""
     from urdftool.check import check_paths
     from urdftool.cli import Progress
-    from urdftool.errors import ToolError
+    from urdftool.errors import NothingToCheck, ToolError
+    from urdftool.report import Report
 
     try:
         with Progress("checking", enabled=not quiet) as progress:
             return check_paths(paths, options, progress=progress.update)
+    except NothingToCheck as exc:  # ruff: a folder without Python files is not an error
+        report = Report([], [f"{exc}: nothing to check"])
+        report.seen = set()
+        return report
     except ToolError as exc:
         sarif = [target for extra_fmt, target in extras if extra_fmt == "sarif"]
         if fmt == "sarif":
@@ -276,23 +303,29 @@ def _fix(paths, options, output, in_place, unsafe, diff, targets=()):
     from urdftool.errors import ToolError
     from urdftool.fix import encoded, fix_file, unified_diff
     from urdftool.output import check_target, write_output
-    from urdftool.report import Report
 
-    if len(paths) != 1 or Path(paths[0]).is_dir() or not (diff or output or in_place):
-        raise ToolError("--fix repairs one file: give exactly one PATH and -o OUT "
-                        "(or --in-place, or --diff to see the changes)")
+    single = len(paths) == 1 and not Path(paths[0]).is_dir() and not options.changed
     if output and in_place:
         raise ToolError("give -o OUT or --in-place, not both")
-    result = fix_file(paths[0], options, unsafe)
+    if output and not single:
+        raise ToolError("-o OUT is where one fixed file goes: for several files or a "
+                        "directory use --in-place (or --diff to see the changes)")
+    if not (diff or output or in_place):
+        raise ToolError("--fix writes the fixed files: add --in-place (or -o OUT for one "
+                        "file, or use --diff to see the changes)")
+    if not single:
+        result = _fix_many(paths, options, unsafe)
+    else:
+        result = fix_file(paths[0], options, unsafe)
     changed = result.changed()
-    remaining = len(result.remaining.diagnostics)
+    remaining = len(_remaining(result).diagnostics())
     summary = f"{result.fixed} fixed, {remaining} remaining"
     if diff:
         text = unified_diff(result)
         if text:
             click.echo(text, nl=False)
         click.echo(summary + ("" if changed else " (nothing to change)"), err=True)
-        return None if changed else Report([result.remaining])
+        return None if changed else _remaining(result)
     top = Path(paths[0]).resolve()
     others = [name for name in changed if Path(name).resolve() != top]
     if output:
@@ -318,4 +351,48 @@ def _fix(paths, options, output, in_place, unsafe, diff, targets=()):
                          encoding=encoding)
             click.echo(f"fixed {clean(name)}", err=True)
     click.echo(summary, err=True)
-    return Report([result.remaining])
+    return _remaining(result)
+
+
+def _remaining(result):
+    """The report of what the fixes left (one file, or every check of several)."""
+    from urdftool.report import Report, merge_repeats
+
+    remaining = result.remaining
+    return Report(merge_repeats(list(remaining)) if isinstance(remaining, list) else [remaining])
+
+
+def _fix_many(paths, options, unsafe):
+    """--fix / --diff over several files and directories (issue 23): the checks a run shows
+    (entries with their arguments, lone fragments without the rules that need the includer's
+    robot; with --changed, those that read a given file) are fixed one after the other, each
+    reading the files the ones before fixed; with --changed only the given files change."""
+    import copy
+
+    from urdftool.check import check_paths, overlay_options, target_options
+    from urdftool.fix import FixResult, fix_file
+    from urdftool.package import ALONE_SKIPS, plan
+
+    report = check_paths(paths, options)
+    targets, given = plan(paths, options.changed, options.selection, options.config_file)
+    by_path = {}
+    for target in targets:
+        by_path.setdefault((str(Path(target.path).resolve()), tuple(target.args.items())), target)
+    originals: dict[str, str] = {}
+    texts: dict[str, str] = {}
+    fixed, remaining = 0, []
+    for shown in report.files:
+        target = by_path.get((str(Path(shown.path).resolve()), tuple(shown.args.items())))
+        these = copy.copy(options)
+        these.load = overlay_options(target_options(options, target), texts)
+        if shown.role == "fragment":  # checked alone: nothing that needs the includer
+            these.ignore = [*options.ignore, *ALONE_SKIPS]
+        result = fix_file(shown.path, these, unsafe)
+        for name, text in result.texts.items():
+            if given is not None and str(Path(name).resolve()) not in given:
+                continue  # changed files mode: the others are not the commit's
+            originals.setdefault(name, result.originals[name])
+            texts[name] = text
+        fixed += result.fixed
+        remaining.append(result.remaining)
+    return FixResult(originals, texts, fixed, remaining)

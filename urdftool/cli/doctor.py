@@ -31,8 +31,15 @@ def command(fmt):
         return
     click.echo(f"urdftool {__version__}, Python {sys.version.split()[0]}, "
                f"{platform.system()} {platform.release()}")
+    extras = {"trimesh": "mesh", "pinocchio": "kinematics", "sympy": "kinematics",
+              "pybullet": "sim"}
     for name, present in libraries.items():
-        click.echo(f"  {name:<12} {'installed' if present else 'missing'}")
+        if present or name not in extras:
+            click.echo(f"  {name:<12} {'installed' if present else 'missing'}")
+        else:  # how to add it to this installation (errors.install_line)
+            from urdftool.errors import install_line
+
+            click.echo(f"  {name:<12} missing: {install_line(extras[name])}")
     click.echo("--untrusted sandbox (the reader of xacro, YAML, SDF and meshes):")
     for layer, state in layers.items():
         click.echo(f"  {layer:<16} {state}")

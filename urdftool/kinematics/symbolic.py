@@ -6,8 +6,11 @@ the frame of the k-th moving joint's child link to the next moving joint (``l0``
 link to the first joint; ``l{n}``: from the last joint to the tip), in the coordinates of that
 frame. An offset along a single axis is one symbol ``l{k}``; one with several components gets
 ``l{k}_x``, ``l{k}_y``, ``l{k}_z``. Symbols stand for the magnitude, the sign is written in the
-expression. Rotation entries within 1e-10 of 0 or ±1 (rpy at multiples of pi/2) are taken as
-exact; others stay floating-point numbers at full precision.
+expression. Rotation entries within ``EXACT`` (1e-6) of 0 or ±1 are taken as exact: an angle
+within about 1e-6 rad of a multiple of pi/2 (a vendor's rounded 1.570796327, whose cosine is
+-2.05e-10, would otherwise leave terms like ``2.05e-10*sin(q2)`` everywhere); the output says
+which origins were snapped and by how much at most (issue 23.7). Others stay floating-point
+numbers at full precision. The numeric tables (``jacobian --q``) are never snapped.
 
 sympy is imported here only: this module is loaded by ``--symbolic`` alone.
 """
@@ -22,7 +25,7 @@ from urdftool.display import clean
 from urdftool.errors import ToolError, require
 from urdftool.kinematics.chain import Chain
 
-EXACT = 1e-10
+EXACT = 1e-6  # rotation entries this close to 0/±1 are exact (angles ~1e-6 rad of k*pi/2)
 
 
 @dataclass
@@ -32,7 +35,7 @@ class Symbolic:
     lengths: dict  # symbol -> value in metres, in order of appearance
     position: object  # sympy 3x1 Matrix: the tip origin in the base frame
     jacobian: object  # sympy 6xn Matrix (rows vx vy vz wx wy wz)
-    snapped: list[str]  # notes: rotation entries taken as exact
+    snapped: list[str]  # notes: what had rotation entries taken as exact, and by how much
     simplified: str = "none"  # the simplification applied: full, trig or none
 
     @property
@@ -66,14 +69,14 @@ def _scalar(sp, value: float):
     return sp.Float(text)
 
 
-def _constant(sp, transform: np.ndarray, k: int, lengths: dict, snapped: list, what: str):
+def _constant(sp, transform: np.ndarray, k: int, lengths: dict, snapped: dict, what: str):
     out = sp.eye(4)
     for r in range(3):
         for c in range(3):
             value = float(transform[r, c])
             entry = _number(sp, value)
             if entry.is_Integer and value != int(entry):
-                snapped.append(what)
+                snapped[what] = max(snapped.get(what, 0.0), abs(value - int(entry)))
             out[r, c] = entry
     offset = [float(v) for v in transform[:3, 3]]
     nonzero = [i for i, v in enumerate(offset) if abs(v) > 1e-12]
@@ -138,7 +141,7 @@ def symbolic_kinematics(chain: Chain, simplify: str = "auto") -> Symbolic:
     level, simplifier = _simplifier(sp, simplify, chain)
     q = list(sp.symbols(f"q1:{chain.n + 1}", real=True))
     lengths: dict = {}
-    snapped: list[str] = []
+    snapped: dict[str, float] = {}  # what -> the largest change made to one of its entries
     current = sp.eye(4)
     frames = []
     for k, joint in enumerate(chain.joints):
@@ -176,7 +179,8 @@ def symbolic_kinematics(chain: Chain, simplify: str = "auto") -> Symbolic:
         # differentiate the simplified position: compact, and it simplifies further
         jacobian[:3, :] = position.jacobian(q)
         jacobian = jacobian.applyfunc(simplifier)
-    return Symbolic(chain, q, lengths, position, jacobian, sorted(set(snapped)), level)
+    notes = [f"{what} (off by up to {off:.3g})" for what, off in sorted(snapped.items())]
+    return Symbolic(chain, q, lengths, position, jacobian, notes, level)
 
 
 # -- printing ---------------------------------------------------------------------------------
@@ -192,7 +196,9 @@ def _legend(result: Symbolic, comment: str = "") -> list[str]:
     for symbol, value in result.lengths.items():
         lines.append(f"{comment}{symbol} = {value!r} m")
     for what in result.snapped:
-        lines.append(f"{comment}note: rotation entries of the {what} taken as exact 0/±1")
+        lines.append(f"{comment}note: rotation entries of the {what} taken as exact 0/±1: "
+                     f"within {EXACT:g} of them, angles within about {EXACT:g} rad of a "
+                     "multiple of pi/2 (the numeric tables use the values as written)")
     if result.simplified == "none":
         lines.append(f"{comment}note: not simplified (more than {AUTO_TRIG_UP_TO} variables, "
                      "rotations that are not multiples of pi/2, or --simplify none; "

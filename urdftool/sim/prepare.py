@@ -331,6 +331,41 @@ def _strip_world(root, prepared: Prepared) -> bool:
     return True
 
 
+def _merge_massless_leaves(root, prepared: Prepared) -> bool:
+    """Drop the frame links PyBullet would give 1 kg each (issue 23.7): a leaf link without
+    <inertial> and without shapes, on a fixed joint (UR's tool0 and flange, a camera's optical
+    frame), repeatedly (a chain of frames). Gazebo, Drake and MuJoCo lump fixed links into their
+    parent: a massless, shapeless one adds nothing there. Its name stays known (a note)."""
+    merged: list[str] = []
+    while True:
+        parents = {j.find("parent").get("link") for j in root.findall("joint")
+                   if j.find("parent") is not None}
+        by_child = {j.find("child").get("link"): j for j in root.findall("joint")
+                    if j.find("child") is not None}
+        found = [link for link in root.findall("link")
+                 if link.get("name") not in parents and link.get("name") != prepared.root_link
+                 and link.find("inertial") is None and link.find("visual") is None
+                 and link.find("collision") is None
+                 and (by_child.get(link.get("name")) is not None
+                      and by_child[link.get("name")].get("type") == "fixed")]
+        if not found:
+            break
+        for link in found:
+            name = link.get("name")
+            joint = by_child[name]
+            root.remove(link)
+            root.remove(joint)
+            prepared.masses.pop(name, None)
+            prepared.joints.pop(joint.get("name"), None)
+            merged.append(name)
+    if merged:
+        shown = ", ".join(f"'{n}'" for n in merged[:6]) + (
+            f" and {len(merged) - 6} more" if len(merged) > 6 else "")
+        prepared.notes.append(f"massless frame link(s) on fixed joints merged into their "
+                              f"parents, as Gazebo, Drake and MuJoCo lump them: {shown}")
+    return bool(merged)
+
+
 def _temp_path(prepared: Prepared) -> Path:
     name = Path(prepared.path).name.split(".")[0] or "model"
     path = Path(prepared.scratch_dir()) / f"{name}.urdf"
@@ -453,6 +488,8 @@ def prepare(path: str, options, from_directory: bool = False) -> Prepared:
         prepared.anchored = True
         prepared.anchor_reason = (f"root link '{prepared.root_link}' has zero mass: "
                                   "PyBullet keeps it static")
+    if _merge_massless_leaves(tree, prepared):
+        modified = True
     problem = _visual_meshes(robot, source, prepared)
     if problem:
         prepared.problem = problem

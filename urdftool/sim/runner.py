@@ -153,7 +153,9 @@ def require_pybullet() -> None:
     import importlib.util
 
     if importlib.util.find_spec("pybullet") is None:
-        raise ToolError("'sim' needs the 'pybullet' module: pip install 'urdftool[sim]'")
+        from urdftool.errors import install_line
+
+        raise ToolError(f"'sim' needs the 'pybullet' module: {install_line('sim')}")
 
 
 def simulate(paths: list[str], options: SimOptions | None = None,
