@@ -5,6 +5,10 @@ class ToolError(Exception):
     """The tool could not do its job (bad usage, unreadable file, missing dependency)."""
 
 
+class NothingToCheck(ToolError):
+    """No robot file among the paths given (``check`` says so and exits 0)."""
+
+
 def require(module: str, extra: str):
     """Import an optional heavy dependency or raise a ToolError naming the pip extra."""
     import importlib
