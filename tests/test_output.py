@@ -243,7 +243,7 @@ def test_one_location_format(tmp_path):
     unreadable = tmp_path / "undefined.xacro"
     unreadable.write_text('<?xml version="1.0"?>\n<robot name="r" '
                           'xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
-                          '  <xacro:arm side="left"/>\n</robot>\n')
+                          '  <xacro:arm side="left"/>\n  <link name="base"/>\n</robot>\n')
     tree = run_urdftool("tree", unreadable)
     assert tree.code == 2 and tree.err.startswith(f"urdftool: {unreadable}:3:3: error xacro.error")
     assert any(line.startswith(f"{unreadable}:3:3: error xacro.error: ")
