@@ -23,7 +23,7 @@ import sys
 from pathlib import Path
 from typing import ClassVar, NamedTuple
 
-from urdftool.check import CheckOptions, check_model
+from urdftool.check import CheckOptions, _one_per_missing_package, check_model
 from urdftool.config import Config, load_config
 from urdftool.errors import ToolError
 from urdftool.loader import run_roots
@@ -352,7 +352,7 @@ class Engine:
             reports.append(copied)
         targets = [t for t, r in zip(unit.targets, unit.reports) if r is not None]
         shown, notes = classify(targets, reports)
-        report = Report(merge_repeats(shown), notes)
+        report = Report(_one_per_missing_package(merge_repeats(shown)), notes)  # as check_paths
         report.seen = seen_files(targets, shown, reports, None)  # as check_paths (baselines)
         if unit.config.baseline is not None:
             from urdftool.baseline import apply_baseline
