@@ -158,6 +158,7 @@ def report_json(results, options, wall: float) -> dict:
         "summary": {"models": len(results),
                     "passed": sum(r.verdict == "pass" for r in results),
                     "failed": sum(r.verdict == "fail" for r in results),
+                    "skipped": sum(r.verdict == "skip" for r in results),
                     "wall_s": wall},
     }
 
@@ -178,7 +179,8 @@ def print_text(results, wall: float) -> None:
         name = shown(result.path)
         if result.robot and result.robot != result.path.rsplit("/", 1)[-1].split(".")[0]:
             name += f" [dim]({shown(result.robot)})[/]"
-        verdict = {"pass": "[green]pass[/]", "fail": "[bold red]FAIL[/]"}[result.verdict]
+        verdict = {"pass": "[green]pass[/]", "fail": "[bold red]FAIL[/]",
+                   "skip": "[yellow]not simulated[/]"}[result.verdict]
         failed = ", ".join(f"[red]{shown(c.check.removeprefix('sim.'))}[/]"
                            for c in result.failures())
         timing = result.timing
@@ -189,6 +191,11 @@ def print_text(results, wall: float) -> None:
         table.add_row(name, verdict, failed, taken, factor)
     print_table(console, table)
     for result in results:
+        if result.verdict == "skip":
+            console.print()
+            console.print(f"[bold]{shown(result.path)}[/]: "
+                          f"{shown(result.checks[0].message)}")
+            continue
         if result.verdict != "fail" and not result.images:
             continue
         console.print()
@@ -207,7 +214,9 @@ def print_text(results, wall: float) -> None:
             console.print(f"  picture: {shown(image)}")
     passed = sum(r.verdict == "pass" for r in results)
     failed = sum(r.verdict == "fail" for r in results)
+    skipped = sum(r.verdict == "skip" for r in results)
     console.print()
     console.print(f"{len(results)} model(s): [green]{passed} passed[/], "
                   f"{'[red]' if failed else ''}{failed} failed{'[/]' if failed else ''}"
+                  + (f", {skipped} not simulated" if skipped else "")
                   + f" in {wall:.2f} s")

@@ -298,7 +298,7 @@ def _targets_gazebo(robot) -> bool:
     return bool(robot.elements("gazebo"))
 
 
-def _kinematics_only(robot) -> bool:
+def is_kinematics_only(robot) -> bool:
     """No <inertial> anywhere while joints move: a description for rviz, TF and planning."""
     return (all(link.inertial is None for link in robot.links)
             and any(joint.moving for joint in robot.joints))
@@ -322,7 +322,7 @@ kinematics only on purpose (`ignore = ["inertia.kinematics-only"]`).""",
                   '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
                   '</joint>\n' + _link("arm", "0.5", ("0.001", "0.001", "0.001"))))
 def kinematics_only(robot):
-    if not _kinematics_only(robot):
+    if not is_kinematics_only(robot):
         return
     moving = sum(joint.moving for joint in robot.joints)
     loc = robot.loc(robot.root) if robot.root is not None else None
@@ -358,7 +358,7 @@ reported once, as `inertia.kinematics-only`.""",
                   '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
                   '</joint>\n' + _link("arm", "0.5", ("0.001", "0.001", "0.001"))))
 def massless_moving_link(robot):
-    if _kinematics_only(robot):
+    if is_kinematics_only(robot):
         return  # one finding for the robot: inertia.kinematics-only
     bodies = analysis.RigidBodies(robot)
     # an SDF is read by Gazebo as SDF, not through its URDF reader; the massless links its

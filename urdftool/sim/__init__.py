@@ -95,8 +95,11 @@ class ModelResult:
 
     @property
     def verdict(self) -> str:
-        """'pass' or 'fail' (a model that did not load fails its load check)."""
-        return "fail" if any(c.failed for c in self.checks) else "pass"
+        """'pass', 'fail' (a model that did not load fails its load check) or 'skip' (nothing
+        was simulated: a kinematics-only model)."""
+        if any(c.failed for c in self.checks):
+            return "fail"
+        return "skip" if self.checks and all(c.status == "skip" for c in self.checks) else "pass"
 
     def check(self, name: str) -> CheckResult | None:
         full = name if name.startswith("sim.") else f"sim.{name}"

@@ -72,6 +72,11 @@ def run_model(path: str, options: SimOptions, from_directory: bool = False,
             result.checks.append(_check("load", "fail", f"cannot load: {prepared.problem}"))
             _skip_rest(result, "the model did not load")
             return result
+        if prepared.kinematics_only:
+            # what check says of it (inertia.kinematics-only): no simulator can use it as is
+            _skip_rest(result, "not simulated: no link has an <inertial> (kinematics only, as "
+                               "`urdftool check` says: inertia.kinematics-only)")
+            return result
         result.anchored, result.anchor_reason = prepared.anchored, prepared.anchor_reason
         with captured_fds() as printed:
             run = _Run(prepared, options, result, picture)

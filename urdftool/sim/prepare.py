@@ -24,6 +24,8 @@ from lxml import etree
 from urdftool.errors import ToolError
 from urdftool.loader import load
 from urdftool.model import Loc, Robot, build_robot
+from urdftool.rules.inertia import is_kinematics_only
+from urdftool.sdf.transforms import Transform
 from urdftool.source import LoadOptions
 
 REVOLUTE = ("revolute", "continuous")
@@ -66,6 +68,7 @@ class Prepared:
     anchored: bool = False
     anchor_reason: str | None = None
     root_link: str | None = None
+    kinematics_only: bool = False  # no <inertial> anywhere: nothing to simulate
     masses: dict[str, float | None] = field(default_factory=dict)  # link -> mass, None: none
     joints: dict[str, JointFacts] = field(default_factory=dict)
     group: dict[str, int] = field(default_factory=dict)  # link -> rigid group
@@ -331,38 +334,87 @@ def _strip_world(root, prepared: Prepared) -> bool:
     return True
 
 
-def _merge_massless_leaves(root, prepared: Prepared) -> bool:
-    """Drop the frame links PyBullet would give 1 kg each (issue 23.7): a leaf link without
-    <inertial> and without shapes, on a fixed joint (UR's tool0 and flange, a camera's optical
-    frame), repeatedly (a chain of frames). Gazebo, Drake and MuJoCo lump fixed links into their
-    parent: a massless, shapeless one adds nothing there. Its name stays known (a note)."""
+def _is_frame(link) -> bool:
+    """A link without <inertial> and without shapes: a named frame (UR's tool0, flange and
+    base_link, Franka's link8, a camera's optical frame). PyBullet would give it 1 kg."""
+    return (link.find("inertial") is None and link.find("visual") is None
+            and link.find("collision") is None)
+
+
+def _joint_origin(joint) -> Transform | None:
+    """The joint's <origin> as a transform; None when a value does not read (left as written)."""
+    origin = joint.find("origin")
+    values = []
+    for attribute in ("xyz", "rpy"):
+        text = origin.get(attribute) if origin is not None else None
+        try:
+            numbers = tuple(float(v) for v in (text or "0 0 0").split())
+        except ValueError:
+            return None
+        if len(numbers) != 3 or not all(math.isfinite(v) for v in numbers):
+            return None
+        values.append(numbers)
+    return Transform.from_rpy(values[0], values[1])
+
+
+def _set_origin(joint, transform: Transform) -> None:
+    origin = joint.find("origin")
+    if origin is None:
+        origin = etree.SubElement(joint, "origin")
+    origin.set("xyz", " ".join(repr(v) for v in transform.xyz))
+    origin.set("rpy", " ".join(repr(v) for v in transform.rpy))
+
+
+def _lump_massless_frames(root, prepared: Prepared) -> bool:
+    """Lump the frame links (``_is_frame``) on fixed joints into their neighbours, as Gazebo,
+    Drake and MuJoCo lump fixed links into one body (issue 23.7): a frame adds nothing to that
+    body, while PyBullet would give it 1 kg. A frame with a fixed parent joint is removed and its
+    child joints hang from its parent (origins composed: nothing moves); an unanchored root frame
+    with one fixed child joint is removed and the child is the root. Repeated until none is left
+    (a chain of frames); their names are said in a note."""
     merged: list[str] = []
-    while True:
-        parents = {j.find("parent").get("link") for j in root.findall("joint")
-                   if j.find("parent") is not None}
-        by_child = {j.find("child").get("link"): j for j in root.findall("joint")
-                    if j.find("child") is not None}
-        found = [link for link in root.findall("link")
-                 if link.get("name") not in parents and link.get("name") != prepared.root_link
-                 and link.find("inertial") is None and link.find("visual") is None
-                 and link.find("collision") is None
-                 and (by_child.get(link.get("name")) is not None
-                      and by_child[link.get("name")].get("type") == "fixed")]
-        if not found:
-            break
-        for link in found:
+    changed = True
+    while changed:
+        changed = False
+        joints = [j for j in root.findall("joint")
+                  if j.find("parent") is not None and j.find("child") is not None]
+        by_child = {j.find("child").get("link"): j for j in joints}
+        children: dict[str | None, list] = {}
+        for joint in joints:
+            children.setdefault(joint.find("parent").get("link"), []).append(joint)
+        for link in root.findall("link"):
             name = link.get("name")
-            joint = by_child[name]
+            if not _is_frame(link):
+                continue
+            below = children.get(name, [])
+            above = by_child.get(name)
+            if above is not None and above.get("type") == "fixed" and name != prepared.root_link:
+                lift = _joint_origin(above)
+                if lift is None or any(_joint_origin(j) is None for j in below):
+                    continue
+                parent = above.find("parent").get("link")
+                for joint in below:
+                    joint.find("parent").set("link", parent)
+                    _set_origin(joint, lift * _joint_origin(joint))
+                root.remove(above)
+                prepared.joints.pop(above.get("name"), None)
+            elif (above is None and name == prepared.root_link and not prepared.anchored
+                  and len(below) == 1 and below[0].get("type") == "fixed"):
+                root.remove(below[0])
+                prepared.joints.pop(below[0].get("name"), None)
+                prepared.root_link = below[0].find("child").get("link")
+            else:
+                continue
             root.remove(link)
-            root.remove(joint)
             prepared.masses.pop(name, None)
-            prepared.joints.pop(joint.get("name"), None)
             merged.append(name)
+            changed = True
+            break  # the maps above are stale now
     if merged:
         shown = ", ".join(f"'{n}'" for n in merged[:6]) + (
             f" and {len(merged) - 6} more" if len(merged) > 6 else "")
-        prepared.notes.append(f"massless frame link(s) on fixed joints merged into their "
-                              f"parents, as Gazebo, Drake and MuJoCo lump them: {shown}")
+        prepared.notes.append(f"massless frame link(s) on fixed joints lumped into their "
+                              f"neighbours, as Gazebo, Drake and MuJoCo lump them: {shown}")
     return bool(merged)
 
 
@@ -456,6 +508,7 @@ def prepare(path: str, options, from_directory: bool = False) -> Prepared:
                             "no root link: the joints form a loop")
         return prepared
     prepared.root_link = roots[0]
+    prepared.kinematics_only = is_kinematics_only(robot)
     prepared.joints = _joint_facts(robot)
     if len(robot.links) > MAX_LINKS:
         prepared.problem = (f"{len(robot.links)} links: PyBullet 3.2 builds a body of at most "
@@ -483,13 +536,13 @@ def prepare(path: str, options, from_directory: bool = False) -> Prepared:
             modified = True
         else:
             prepared.anchored, prepared.anchor_reason = True, "root link 'world'"
+    if _lump_massless_frames(tree, prepared):
+        modified = True
     root_mass = prepared.masses.get(prepared.root_link)
     if not prepared.anchored and root_mass is not None and root_mass == 0:
         prepared.anchored = True
         prepared.anchor_reason = (f"root link '{prepared.root_link}' has zero mass: "
                                   "PyBullet keeps it static")
-    if _merge_massless_leaves(tree, prepared):
-        modified = True
     problem = _visual_meshes(robot, source, prepared)
     if problem:
         prepared.problem = problem
