@@ -25,7 +25,8 @@ def install_line(extra: str) -> str:
     """The command that adds the optional dependencies ``extra`` to THIS installation of
     urdftool, into the Python running it: a source checkout is installed from its folder
     (``pip install -e 'DIR[extra]'``), an installation from a folder, archive or repository
-    from where it came (PEP 610's direct_url.json), and only one from an index by name."""
+    from where it came (PEP 610's direct_url.json); with no record, the README's line from a clone (urdftool is
+    on no package index: an index name could install someone else's package)."""
     import shlex
     import sys
     from pathlib import Path
@@ -59,7 +60,10 @@ def pip_line(pip: str, extra: str, checkout, direct) -> str:
     if checkout is not None:
         return f"{pip} -e {shlex.quote(f'{checkout}[{extra}]')}"
     if not isinstance(direct, dict) or not isinstance(direct.get("url"), str):
-        return f"{pip} {shlex.quote(f'urdftool[{extra}]')}"  # from an index
+        # no record of where it came from: urdftool is on no package index (a name there would
+        # be someone else's package), so the README's line, from a clone
+        return (f"{pip} {shlex.quote(f'./urdftool[{extra}]')} (from the folder holding your "
+                f"clone of urdftool: it is on no package index)")
     url = direct["url"]
     dir_info, vcs = direct.get("dir_info"), direct.get("vcs_info")
     if isinstance(dir_info, dict) and url.startswith("file://"):

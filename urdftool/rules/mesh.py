@@ -187,7 +187,7 @@ def _names(names: list[str], most: int = 6) -> str:
 with trimesh and the libraries of the `mesh` extra (pycollada for COLLADA, scipy, Pillow).
 The hint gives the command that installs the extra into this installation (a source checkout:
 `pip install -e 'DIR[mesh]'`; an installation from a folder, archive or repository: from there;
-from an index: `pip install 'urdftool[mesh]'`). A mesh that cannot be read for want of one of
+with no record of where it came from, the README's line from a clone: urdftool is on no index). A mesh that cannot be read for want of one of
 them is reported here, never as `mesh.unreadable`. Without them, `check` still runs every other rule
 and says here, once per robot, which meshes and links were not checked: a warning, so that
 `--strict` fails a CI job whose environment lacks it (the other commands that need trimesh stop
