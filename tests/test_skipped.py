@@ -174,8 +174,8 @@ def test_missing_mesh_library_is_not_checked_never_unreadable(tmp_path, module, 
 
 
 @pytest.mark.parametrize("direct,line", [
-    (None, "PIP './urdftool[mesh]' (from the folder holding your clone of urdftool: it is on no "
-           "package index)"),  # no record: never an index name
+    (None, ("PIP './urdftool[mesh]' (from the folder holding your clone of urdftool: it is on "
+            "no package index)")),  # no record: never an index name
     ({"url": "file:///src/urdf%20tool", "dir_info": {"editable": True}},
      "PIP -e '/src/urdf tool[mesh]'"),
     ({"url": "file:///src/urdftool", "dir_info": {}}, "PIP '/src/urdftool[mesh]'"),
