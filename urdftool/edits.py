@@ -52,6 +52,7 @@ class ByHand(str):
 
 _STARTS: dict[str, list[int]] = {}  # text -> its line starts: every text is split once
 _STARTS_KEPT = 64
+_LAST: list = [None, None]  # the text asked last and its starts
 
 
 def line_starts(text: str) -> list[int]:
@@ -59,6 +60,8 @@ def line_starts(text: str) -> list[int]:
     text and shared by the edits, the report's excerpts and positions (the list is shared:
     never change it). The last few texts are kept (a run checks one file, its includes and
     their look-through rounds at a time)."""
+    if _LAST[0] is text:  # the same text again (every position of one file): no lookup,
+        return _LAST[1]   # which would compare an equal text of another object in full
     starts = _STARTS.get(text)
     if starts is None:
         if len(_STARTS) >= _STARTS_KEPT:
@@ -70,6 +73,7 @@ def line_starts(text: str) -> list[int]:
             add(at + 1)
             at = find("\n", at + 1)
         _STARTS[text] = starts
+    _LAST[0], _LAST[1] = text, starts
     return starts
 
 
