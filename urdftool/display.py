@@ -27,8 +27,10 @@ _UNSAFE = frozenset(("Cc", "Cf", "Zl", "Zp", "Cs", "Co"))
 _SHORT = {"\t": "\\t", "\n": "\\n", "\r": "\\r"}
 _LEGACY = re.compile(r"#(?=#(?:vso)?\[)", re.IGNORECASE)  # the first '#' of ##[ or ##vso[
 # a line start (CI runners split lines at \n and \r) followed by blanks or colour codes, then ::
-_LINE_START = re.compile(r"(?:\A|(?<=[\r\n]))((?:[^\S\r\n]|\x1b\[[0-9;:]*m)*):(?=:)")
-_OPEN_START = re.compile(r"(?:[^\S\r\n]|\x1b\[[0-9;:]*m)*:?")  # may still become "::"
+# (blanks and colour codes written as an unrolled loop: one fast run of blanks, then codes each
+# followed by blanks; the same language, five times cheaper than an alternation per character)
+_LINE_START = re.compile(r"(?:\A|(?<=[\r\n]))([^\S\r\n]*(?:\x1b\[[0-9;:]*m[^\S\r\n]*)*):(?=:)")
+_OPEN_START = re.compile(r"[^\S\r\n]*(?:\x1b\[[0-9;:]*m[^\S\r\n]*)*:?")  # may become "::"
 _OPEN_TAIL = re.compile(r"#(?:#(?:v(?:so?)?)?)?\Z", re.IGNORECASE)  # may still become "##["
 
 
