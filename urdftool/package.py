@@ -33,6 +33,7 @@ from urdftool.files import read_head, read_regular
 from urdftool.report import FileReport
 from urdftool.roots import resolved
 from urdftool.source import _INCLUDE, ROBOT_SUFFIXES, shown_path
+from urdftool.textscan import without_comments
 
 # what a file that only defines things holds at its top level, once expanded
 DEFINITION_TAGS = frozenset({"material", "gazebo", "ros2_control", "transmission",
@@ -307,25 +308,6 @@ def fixture_reason(file: Path, directory: Path) -> str | None:
 _ROOT_TAG = re.compile(r"<(?![?!])(?:[\w.-]+:)?([A-Za-z_][\w.-]*)")
 
 
-def without_comments(text: str) -> str:
-    """``text`` without its XML comments, in one pass (an unclosed one runs to the end; a
-    regex's lazy match is quadratic on thousands of unclosed ``<!--``)."""
-    if "<!--" not in text:
-        return text
-    kept, start = [], 0
-    while True:
-        begin = text.find("<!--", start)
-        if begin < 0:
-            kept.append(text[start:])
-            break
-        kept.append(text[start:begin])
-        end = text.find("-->", begin + 4)
-        if end < 0:
-            break
-        start = end + 3
-    return "".join(kept)
-
-
 def root_tag(file: Path) -> tuple[str | None, bool]:
     """(the local name of a file's root element, whether it defines xacro macros), from its
     first bytes (None: no element found, or unreadable: the check reports it)."""
@@ -333,7 +315,7 @@ def root_tag(file: Path) -> tuple[str | None, bool]:
         head = read_head(file, HEAD_BYTES).decode("utf-8", errors="replace")
     except OSError:
         return None, False
-    head = without_comments(head)  # (a DTD's declarations start with <! too: skipped)
+    head = without_comments(head, keep_unclosed=False)  # (a DTD's <!...: skipped below)
     match = _ROOT_TAG.search(head)
     return (match.group(1) if match else None), re.search(r"<(?:xacro:)?macro\s", head) is not None
 
@@ -727,7 +709,7 @@ def static_includes(reports: list[FileReport],
             if resolved in seen:
                 continue
             seen.add(resolved)
-            for spec in re.findall(_INCLUDE, without_comments(text)):
+            for spec in re.findall(_INCLUDE, without_comments(text, keep_unclosed=False)):
                 targets, pattern = _include_candidates(spec, Path(resolved).parent, by_name)
                 for target in targets:
                     (wildcard if pattern else exact).setdefault(target, set()).add(resolved)
@@ -829,7 +811,7 @@ def _role_as_written(text: str) -> str:
     """The role of a xacro file that could not be expanded, from its text: no ``<link>``
     outside its macro definitions, but joints or calls of macros it does not define (they
     come from its includer) -> 'fragment'."""
-    text = without_comments(text)
+    text = without_comments(text, keep_unclosed=False)
     outside = _outside_macros(text)
     if re.search(r"<link[\s>/]", outside):
         return "entry"

@@ -14,9 +14,10 @@ import re
 _OPENERS = (("<!--", "-->"), ("<![CDATA[", "]]>"))
 
 
-def without_comments(text: str) -> str:
+def without_comments(text: str, keep_unclosed: bool = True) -> str:
     """``text`` without its ``<!-- ... -->`` comments (an unterminated one is left, as
-    ``re.sub(r"(?s)<!--.*?-->", "", text)`` left it)."""
+    ``re.sub(r"(?s)<!--.*?-->", "", text)`` left it; with ``keep_unclosed=False`` it runs to the
+    end, as an XML parser reads it)."""
     if "<!--" not in text:
         return text
     pieces = []
@@ -29,7 +30,8 @@ def without_comments(text: str) -> str:
         pieces.append(text[position:start])
         end = text.find("-->", start + 4)
         if end < 0:
-            pieces.append(text[start:])
+            if keep_unclosed:
+                pieces.append(text[start:])
             break
         position = end + 3
     return "".join(pieces)
