@@ -1,6 +1,7 @@
 """Latency of ``urdftool lsp`` while typing: the server started as an editor starts it (stdio),
 a real arm description opened, then edits sent one at a time, as a person types, each timed
-from its ``didChange`` to the ``publishDiagnostics`` of the edited file. Prints the first
+from its ``didChange`` to the ``publishDiagnostics`` of the edited file for that version (the
+server says the version its diagnostics are for). Prints the first
 check's time and p50/p95/max over the edits.
 
     python benchmarks/bench_lsp.py [PACKAGE_DIR] [--edits N] [--interval S]
@@ -97,12 +98,12 @@ def prepare(mirror: str | None) -> Path:
 
 async def run(package: Path, edits: int, interval: float, trusted: bool) -> None:
     client = LanguageClient("bench-lsp", "1")
-    published: dict[str, list[float]] = {}
+    published: dict[str, list[tuple[float, int | None]]] = {}  # uri -> (time, version)
     arrived = asyncio.Event()
 
     @client.feature(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
     def on_diagnostics(params: lsp.PublishDiagnosticsParams):
-        published.setdefault(params.uri, []).append(time.perf_counter())
+        published.setdefault(params.uri, []).append((time.perf_counter(), params.version))
         arrived.set()
 
     @client.feature(lsp.WINDOW_LOG_MESSAGE)
@@ -119,9 +120,12 @@ async def run(package: Path, edits: int, interval: float, trusted: bool) -> None
     texts = {p: p.read_text(encoding="utf-8") for p in (entry, macro)}
     uris = {p: p.resolve().as_uri() for p in texts}
 
-    async def wait_for(uri: str, since: float) -> float:
+    async def wait_for(uri: str, since: float, version: int = 1) -> float:
+        """Seconds from ``since`` to the first diagnostics of ``uri`` for the text of
+        ``version`` or later (when the server says the version; else the first after)."""
         while True:
-            times = [t for t in published.get(uri, []) if t > since]
+            times = [t for t, v in published.get(uri, []) if t > since and (v is None or
+                                                                             v >= version)]
             if times:
                 return times[0] - since
             arrived.clear()
@@ -147,7 +151,8 @@ async def run(package: Path, edits: int, interval: float, trusted: bool) -> None
     for index in range(edits):
         path = entry if index % 2 == 0 else macro
         found = argument if path is entry else origin
-        value = f"{20 + index}" if path is entry else f"{index * 0.001:g}"
+        # (never the text already there: 21.. differs from the default 20, origins from 0)
+        value = f"{21 + index}" if path is entry else f"{index * 0.001:g}"
         text = texts[path][:found.start(2)] + value + texts[path][found.end(2):]
         versions[path] += 1
         await asyncio.sleep(interval)
@@ -156,7 +161,7 @@ async def run(package: Path, edits: int, interval: float, trusted: bool) -> None
         client.text_document_did_change(lsp.DidChangeTextDocumentParams(
             lsp.VersionedTextDocumentIdentifier(version=versions[path], uri=uris[path]),
             [lsp.TextDocumentContentChangeWholeDocument(text=text)]))
-        latencies.append(await wait_for(uris[path], sent))
+        latencies.append(await wait_for(uris[path], sent, versions[path]))
         if used is not None:
             cpu.append(cpu_seconds(pid) - used)
     mode = "trusted" if trusted else "untrusted: sandboxed reader"

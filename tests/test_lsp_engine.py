@@ -64,6 +64,82 @@ def test_an_edit_rechecks_only_the_checks_that_read_the_file(tmp_path):
     assert engine.refresh_pending() and checked == ["robot.urdf.xacro", "macros.xacro"]
 
 
+def _two_fragments(tmp_path):
+    """An entry including two macro files, both edited: both own checks are put off."""
+    (tmp_path / "package.xml").write_text("<package/>", encoding="utf-8")
+    second = MACROS.replace('name="arm"', 'name="leg"')
+    (tmp_path / "macros.xacro").write_text(MACROS, encoding="utf-8")
+    (tmp_path / "legs.xacro").write_text(second, encoding="utf-8")
+    (tmp_path / "data.yaml").write_text(DATA, encoding="utf-8")
+    entry = ENTRY.replace('<xacro:include filename="macros.xacro"/>',
+                          '<xacro:include filename="macros.xacro"/>'
+                          '<xacro:include filename="legs.xacro"/>')
+    (tmp_path / "robot.urdf.xacro").write_text(entry, encoding="utf-8")
+    engine = _engine()
+    engine.refresh([str(tmp_path / "robot.urdf.xacro")])
+    engine.set_buffer(str(tmp_path / "macros.xacro"), MACROS + "<!-- 1 -->")
+    engine.set_buffer(str(tmp_path / "legs.xacro"), second + "<!-- 1 -->")
+    engine.refresh([str(tmp_path / "macros.xacro"), str(tmp_path / "legs.xacro")])
+    return engine, entry
+
+
+def test_checks_put_off_stop_between_targets_when_asked(tmp_path):
+    """A change during the checks put off stops them after the target being checked; the
+    rest stays pending and runs later."""
+    engine, _ = _two_fragments(tmp_path)
+    assert engine.pending()
+    checked = []
+    original = engine._check_one
+
+    def spy(unit, index, options):
+        checked.append(unit.targets[index].path.rsplit("/", 1)[-1])
+        original(unit, index, options)
+
+    engine._check_one = spy
+    assert engine.refresh_pending(lambda: bool(checked)) and len(checked) == 1
+    assert engine.pending()
+    engine.refresh_pending(lambda: False)
+    assert sorted(checked) == ["legs.xacro", "macros.xacro"] and not engine.pending()
+
+
+def test_a_change_does_not_wait_for_the_pause_of_the_checks_put_off(tmp_path, monkeypatch):
+    """The server waits PENDING_DELAY without a change before it runs the checks put off; a
+    change during that wait is checked at once (it used to wait for the end of the pause)."""
+    import asyncio
+    import time
+
+    from urdftool.lsp import server as server_module
+
+    monkeypatch.setattr(server_module, "PENDING_DELAY", 60.0)
+    engine, entry = _two_fragments(tmp_path)
+    robot = str(tmp_path / "robot.urdf.xacro")
+
+    async def scenario() -> float:
+        server = server_module.UrdfLanguageServer(engine.settings)
+        server.engine = engine
+        published = asyncio.Event()
+        texts = {robot: entry.replace('name="base"', 'name="base2"')}
+        server.buffer = texts.get
+        server.publish = lambda roots: published.set()
+        server.schedule(str(tmp_path / "macros.xacro"))  # nothing new: only the pending
+        await asyncio.sleep(0.2)  # the server now waits for a pause
+        assert engine.pending() and not server.task.done()
+        published.clear()
+        start = time.monotonic()
+        server.schedule(robot)
+        await asyncio.wait_for(published.wait(), 30)
+        took = time.monotonic() - start
+        assert engine.pending()  # still put off: there was no pause
+        server.task.cancel()
+        server.worker.shutdown()
+        return took
+
+    assert asyncio.run(scenario()) < 30
+    found = next(iter(engine.snapshot.values())).diagnostics
+    assert any(d.rule == "structure.missing-link" and "'base'" in d.message
+               for ds in found.values() for d in ds), found
+
+
 def test_yaml_data_changed_by_an_expression_is_not_shared_between_expansions(tmp_path):
     """The parsed YAML is kept between expansions (the server expands on every edit); an
     expression that changes the data it got changes only its own expansion's copy."""
@@ -105,8 +181,9 @@ def _messages(data: bytes) -> list[dict]:
 
 def test_the_server_answers_bad_requests_and_exits_cleanly(tmp_path):
     """Over raw stdio: requests about nothing (a missing file, a line past the end, an
-    untitled buffer) answer null, a binary buffer gets diagnostics, and shutdown then exit end
-    the process with status 0 and no traceback."""
+    untitled buffer) answer null, a binary buffer gets diagnostics, diagnostics carry the
+    version of the text they are for, and shutdown then exit end the process with status 0
+    and no traceback."""
     import subprocess
     import sys
 
@@ -115,6 +192,9 @@ def test_the_server_answers_bad_requests_and_exits_cleanly(tmp_path):
     robot = tmp_path / "r.urdf"
     robot.write_text("<robot name='r'><link name='a'/></robot>\n", encoding="utf-8")
     doc = robot.resolve().as_uri()
+    other = tmp_path / "o.urdf"
+    other.write_text(OTHER, encoding="utf-8")
+    second = other.resolve().as_uri()
     nowhere = (tmp_path / "missing.urdf").resolve().as_uri()
     position = {"line": 0, "character": 3}
     requests = [
@@ -125,6 +205,11 @@ def test_the_server_answers_bad_requests_and_exits_cleanly(tmp_path):
          "params": {"textDocument": {"uri": nowhere}, "position": position}},
         {"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {
             "uri": doc, "languageId": "xml", "version": 1, "text": "\x00\x01 not xml"}}},
+        {"jsonrpc": "2.0", "method": "textDocument/didOpen", "params": {"textDocument": {
+            "uri": second, "languageId": "xml", "version": 4, "text": OTHER}}},
+        {"jsonrpc": "2.0", "method": "textDocument/didChange", "params": {
+            "textDocument": {"uri": second, "version": 7},
+            "contentChanges": [{"text": OTHER.replace('"x"/>', '"x"/><link name="y"/>')}]}},
         {"jsonrpc": "2.0", "id": 3, "method": "workspace/executeCommand",
          "params": {"command": "urdftool.check", "arguments": [doc]}},
         {"jsonrpc": "2.0", "id": 4, "method": "textDocument/definition",
@@ -168,6 +253,10 @@ def test_the_server_answers_bad_requests_and_exits_cleanly(tmp_path):
                    if m.get("method") == "textDocument/publishDiagnostics"
                    and m["params"]["uri"] == doc]
     assert diagnostics and diagnostics[-1]["params"]["diagnostics"], diagnostics
+    # diagnostics say the version of the text they are for (the last one sent)
+    last = [m["params"] for m in received if m.get("method") == "textDocument/publishDiagnostics"
+            and m["params"]["uri"] == second][-1]
+    assert last["version"] == 7 and any("'y'" in d["message"] for d in last["diagnostics"])
 
 
 def test_settings_refuse_what_they_do_not_know():

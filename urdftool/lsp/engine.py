@@ -289,16 +289,20 @@ class Engine:
         """Units with checks put off (fragments that entries read)."""
         return [u.root for u in self.units.values() if u.stale and u.planned]
 
-    def refresh_pending(self) -> list[Path]:
+    def refresh_pending(self, stop=None) -> list[Path]:
+        """Run the checks put off; ``stop()`` true (a change came) ends the run between two
+        targets, what is left stays pending."""
         changed = []
-        for unit in self.units.values():
+        for unit in list(self.units.values()):
+            if stop is not None and stop():
+                break
             if unit.stale and unit.planned:
-                self._check(unit, True)
+                self._check(unit, True, stop)
                 self.snapshot[unit.root] = self._result(unit)
                 changed.append(unit.root)
         return changed
 
-    def _check(self, unit: Unit, everything: bool) -> None:
+    def _check(self, unit: Unit, everything: bool, stop=None) -> None:
         options = self.check_options(unit)
 
         def read_by_entry() -> set[str]:
@@ -311,6 +315,8 @@ class Engine:
         readers = read_by_entry()
         later = []
         for index in sorted(unit.stale):
+            if everything and stop is not None and stop():
+                return  # the rest stays stale (nothing was put off: everything)
             target, report = unit.targets[index], unit.reports[index]
             if not everything and report is not None and not target.configured and \
                     report.role != "entry" and resolved(target.path) in readers:
@@ -321,8 +327,7 @@ class Engine:
         for index in later:  # no longer read by an entry: its own findings are shown
             if resolved(unit.targets[index].path) not in readers:
                 self._check_one(unit, index, options)
-        unit.stale = {i for i in later if unit.reports[i] is not None
-                      and resolved(unit.targets[i].path) in readers}
+        # stale now: what was put off and is still read by an entry (_check_one unmarks)
 
     def _check_one(self, unit: Unit, index: int, options: CheckOptions) -> None:
         target = unit.targets[index]

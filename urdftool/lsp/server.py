@@ -3,6 +3,9 @@
 
 Changes are checked in one worker thread, coalesced: a change waits ``Settings.debounce`` for
 the next keystroke, and changes made while a check runs are checked together after it. The
+checks put off (fragments an entry reads) run after ``PENDING_DELAY`` without a change; a
+change ends that wait at once and stops them between two targets, so it never waits for more
+than the one target being checked. The
 requests (hover, code actions...) are answered from the last check's reports and robots.
 Every handler survives its own exceptions: logged to the client, answered with null.
 """
@@ -48,10 +51,13 @@ class UrdfLanguageServer(LanguageServer):
         self.changed: set[str] = set()  # paths changed since their last check
         self.task: asyncio.Task | None = None
         self.running = False  # a check of changed files is under way
+        self.now = False  # a change asks for its check without the debounce
+        self.wake = asyncio.Event()  # set by every change
         self.configuring = 0  # settings changes being applied
         self.published: dict[Path, set[str]] = {}  # unit root -> URIs given diagnostics
         self.uris: dict[str, str] = {}  # resolved path -> the URI the client opened it by
         self.shown: dict[str, list[tuple[lsp.Diagnostic, object]]] = {}  # uri -> last published
+        self.versions: dict[str, int | None] = {}  # resolved path -> version the checks read
         self._docs: str | None = None  # directory of the rule pages (codeDescription)
 
     # -- logging ---------------------------------------------------------------------------
@@ -190,8 +196,8 @@ class UrdfLanguageServer(LanguageServer):
                 pairs = [(self.to_lsp(d, lines), d) for d in found]
                 self.shown[uri] = pairs
                 uris.add(uri)
-                self.text_document_publish_diagnostics(
-                    lsp.PublishDiagnosticsParams(uri, [p for p, _ in pairs]))
+                self.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(
+                    uri, [p for p, _ in pairs], version=self.versions.get(path)))
             for uri in self.published.get(root, set()) - uris:
                 self.shown.pop(uri, None)
                 self.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(uri, []))
@@ -203,43 +209,56 @@ class UrdfLanguageServer(LanguageServer):
 
     def schedule(self, path: str, now: bool = False) -> None:
         self.changed.add(path)
+        self.now = self.now or now
+        self.wake.set()  # a wait for typing to pause ends here: the change goes first
         if self.task is None or self.task.done():
-            self.task = asyncio.get_running_loop().create_task(self._run(now))
+            self.task = asyncio.get_running_loop().create_task(self._run())
 
-    async def _run(self, now: bool) -> None:
+    async def _run(self) -> None:
         loop = asyncio.get_running_loop()
         try:
             while True:
-                if not now and self.engine.settings.debounce:
-                    await asyncio.sleep(self.engine.settings.debounce)
-                now = False
-                if not self.changed:
-                    if not self.engine.pending():
-                        return
-                    await asyncio.sleep(PENDING_DELAY)  # typing goes on: the entries first
-                    if self.changed:
-                        continue
-                    roots = await loop.run_in_executor(self.worker,
-                                                       self.engine.refresh_pending)
-                    self.publish(roots)
+                if self.changed:
+                    if not self.now and self.engine.settings.debounce:
+                        await asyncio.sleep(self.engine.settings.debounce)
+                    self.now = False
+                    paths = sorted(self.changed)
+                    self.changed.clear()
+                    texts = {p: self.buffer(p) for p in paths}
+                    self.running = True
+                    try:
+                        roots = await loop.run_in_executor(self.worker, self._refresh, texts)
+                        self.publish(roots)
+                    finally:
+                        self.running = False
                     continue
-                paths = sorted(self.changed)
-                self.changed.clear()
-                texts = {p: self.buffer(p) for p in paths}
-                self.running = True
+                if not self.engine.pending():
+                    return
+                # typing goes on: the checks put off wait for a pause, and a change ends the
+                # wait at once (it is checked first); they stop between targets for a change
+                self.wake.clear()
                 try:
-                    roots = await loop.run_in_executor(self.worker, self._refresh, texts)
-                    self.publish(roots)
-                finally:
-                    self.running = False
+                    await asyncio.wait_for(self.wake.wait(), PENDING_DELAY)
+                    continue
+                except asyncio.TimeoutError:
+                    pass
+                roots = await loop.run_in_executor(
+                    self.worker, self.engine.refresh_pending, lambda: bool(self.changed))
+                self.publish(roots)
         except Exception as exc:  # noqa: BLE001 - said, and the next change runs again
             self.log(f"urdftool: check failed: {type(exc).__name__}: {exc}\n"
                      + traceback.format_exc(), lsp.MessageType.Error)
 
     def buffer(self, path: str) -> str | None:
-        uri = self.uris.get(resolved(path))
+        """The open buffer's text given to the checks (None: not open), its version noted."""
+        key = resolved(path)
+        uri = self.uris.get(key)
         document = self.workspace.text_documents.get(uri) if uri else None
-        return document.source if document is not None else None
+        if document is None:
+            self.versions.pop(key, None)
+            return None
+        self.versions[key] = document.version
+        return document.source
 
     def _refresh(self, texts: dict[str, str | None]) -> list[Path]:
         for path, text in texts.items():
