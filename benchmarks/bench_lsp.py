@@ -145,9 +145,10 @@ async def run(package: Path, edits: int, interval: float, trusted: bool) -> None
                          texts[entry])
     origin = re.search(r'(<origin xyz="0 0 )([^"]*)(" rpy="0 0 0"\s*/>)', texts[macro])
     assert argument and origin, "the UR files changed: pick other edit places"
-    latencies, cpu = [], []
+    latencies, cpu, cycles = [], [], []  # cycles: CPU from one edit to the next
     pid = client._server.pid if getattr(client, "_server", None) is not None else None
     versions = {p: 1 for p in texts}
+    used = None
     for index in range(edits):
         path = entry if index % 2 == 0 else macro
         found = argument if path is entry else origin
@@ -156,7 +157,9 @@ async def run(package: Path, edits: int, interval: float, trusted: bool) -> None
         text = texts[path][:found.start(2)] + value + texts[path][found.end(2):]
         versions[path] += 1
         await asyncio.sleep(interval)
-        used = cpu_seconds(pid)
+        before, used = used, cpu_seconds(pid)
+        if before is not None and used is not None:
+            cycles.append(used - before)
         sent = time.perf_counter()
         client.text_document_did_change(lsp.DidChangeTextDocumentParams(
             lsp.VersionedTextDocumentIdentifier(version=versions[path], uri=uris[path]),
@@ -171,6 +174,8 @@ async def run(package: Path, edits: int, interval: float, trusted: bool) -> None
         print(f"server CPU per edit (its sandboxed reader's too; independent of the load): "
               f"{summary(cpu)}; entry edits {summary(cpu[0::2])}, macro-body edits "
               f"{summary(cpu[1::2])}")
+        print(f"server CPU per edit cycle (from an edit to the next: the work after the "
+              f"diagnostics too, its garbage collection): {summary(cycles)}")
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"load average during the run: {load:.1f} on {os.cpu_count()} CPUs")
     await client.shutdown_async(None)

@@ -117,6 +117,7 @@ def test_a_change_does_not_wait_for_the_pause_of_the_checks_put_off(tmp_path, mo
     async def scenario() -> float:
         server = server_module.UrdfLanguageServer(engine.settings)
         server.engine = engine
+        server.frozen = True  # (no gc.freeze of the test process)
         published = asyncio.Event()
         texts = {robot: entry.replace('name="base"', 'name="base2"')}
         server.buffer = texts.get
@@ -138,6 +139,25 @@ def test_a_change_does_not_wait_for_the_pause_of_the_checks_put_off(tmp_path, mo
     found = next(iter(engine.snapshot.values())).diagnostics
     assert any(d.rule == "structure.missing-link" and "'base'" in d.message
                for ds in found.values() for d in ds), found
+
+
+def test_garbage_is_collected_after_a_check_unless_a_change_waits(monkeypatch):
+    """The garbage of a check is collected once its diagnostics are out; while changes keep
+    coming, at most COLLECT_EVERY checks apart."""
+    import gc
+
+    from urdftool.lsp import server as server_module
+
+    collected = []
+    monkeypatch.setattr(gc, "collect", lambda *a: collected.append(1) or 0)
+    server = server_module.UrdfLanguageServer()
+    server.frozen = True
+    server.collect()
+    assert len(collected) == 1
+    server.changed.add("x")
+    for _ in range(3 * server_module.COLLECT_EVERY):
+        server.collect()
+    assert len(collected) == 1 + 3
 
 
 def test_yaml_data_changed_by_an_expression_is_not_shared_between_expansions(tmp_path):
