@@ -82,6 +82,7 @@ def group_instances(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
     place and shape of message, other call sites) become one, with the instances and their call
     sites. Diagnostics carry their own call site and no suffix yet; the message gets it here."""
     groups: dict[tuple, list[Diagnostic]] = {}
+    sites_in: dict[tuple, set] = {}  # the call sites of a group's members (a set: thousands)
     order: list[tuple] = []
     for d in diagnostics:
         if not d.call_sites:
@@ -89,14 +90,15 @@ def group_instances(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
         else:
             base = (d.rule, d.severity, d.path, d.line, d.column, _shape(d.message))
             number = 0  # two findings of one instance at one place stay two
-            while (base, number) in groups and any(
-                    g.call_sites == d.call_sites for g in groups[(base, number)]):
+            while (base, number) in groups and d.call_sites in sites_in[(base, number)]:
                 number += 1
             key = (base, number)
         if key not in groups:
             groups[key] = []
+            sites_in[key] = set()
             order.append(key)
         groups[key].append(d)
+        sites_in[key].add(d.call_sites)
     result = []
     for key in order:
         members = groups[key]
