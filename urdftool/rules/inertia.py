@@ -86,8 +86,21 @@ _SURFACE_PLUGINS = ("lift_drag", "liftdrag", "lift-drag", "control_surface")
 NEGLIGIBLE_MASS = 0.01  # a control surface lighter than 1% of the robot
 
 
+_LAST_CONVENTIONS: tuple = (None, {})  # (robot, its conventions): asked once per bad tensor
+
+
 def _conventions(robot) -> dict[str, str]:
-    """Link name -> why its inertia is a simulation convention (the plugin that names it)."""
+    """Link name -> why its inertia is a simulation convention (the plugin that names it).
+    Computed once per robot (a robot of thousands of bad tensors asked it for each)."""
+    global _LAST_CONVENTIONS
+    if _LAST_CONVENTIONS[0] is robot:
+        return _LAST_CONVENTIONS[1]
+    found = _find_conventions(robot)
+    _LAST_CONVENTIONS = (robot, found)
+    return found
+
+
+def _find_conventions(robot) -> dict[str, str]:
     from urdftool.rules.gazebo import _local, _named, plugins
 
     found: dict[str, str] = {}
