@@ -67,21 +67,40 @@ CASES = {"one huge line": (one_huge_line, "robot.urdf"),
 
 
 @pytest.mark.parametrize("case", CASES)
-def test_a_hostile_file_under_1_mb_gives_a_report_under_1_mb(case, write):
+def test_a_hostile_file_under_1_mb_gives_a_report_under_1_mb(case, write, tmp_path):
+    """One run writes every format: text on stdout, the others through --extra-output (the
+    same rendering as --format, test_extra_outputs_are_the_formats)."""
     make, name = CASES[case]
     text = make()
     assert len(text.encode()) < LIMIT
     path = write(text, name)
-    sizes = {}
-    for fmt in FORMATS:
-        result = run_urdftool("check", "--timeout", "60", "--format", fmt, str(path))
-        assert result.code == 1, (fmt, result.err[-500:])
-        assert "Traceback" not in result.err
-        sizes[fmt] = len(result.out.encode())
+    reports = {fmt: tmp_path / f"report.{fmt}" for fmt in FORMATS if fmt != "text"}
+    result = run_urdftool("check", "--timeout", "60", str(path),
+                          *(f"--extra-output={fmt}:{target}" for fmt, target in reports.items()))
+    assert result.code == 1, result.err[-500:]
+    assert "Traceback" not in result.err
+    sizes = {"text": len(result.out.encode())}
+    sizes.update((fmt, target.stat().st_size) for fmt, target in reports.items())
+    assert all(size > 0 for size in sizes.values()), sizes
     assert all(size < LIMIT for size in sizes.values()), sizes
     # text: no line of the report is longer than a clipped message plus its location
-    longest = max(map(len, run_urdftool("check", "--timeout", "60", str(path)).out.splitlines()))
+    longest = max(map(len, result.out.splitlines()))
     assert longest < 1000 + len(str(path)), longest
+
+
+def test_extra_outputs_are_the_formats(write, tmp_path):
+    """--extra-output FORMAT:FILE writes what --format FORMAT prints (the hostile-file test above
+    measures the formats through it)."""
+    path = write(many_findings()[:3000].rsplit("\n", 1)[0] + "\n</robot>")
+    reports = {fmt: tmp_path / f"report.{fmt}" for fmt in FORMATS if fmt != "text"}
+    both = run_urdftool("check", str(path), *(f"--extra-output={fmt}:{target}"
+                                              for fmt, target in reports.items()))
+    assert both.code == 1, both.err
+    assert both.out == run_urdftool("check", str(path)).out
+    for fmt, target in reports.items():
+        alone = run_urdftool("check", "--format", fmt, str(path))
+        assert alone.code == 1 and alone.out, (fmt, alone.err)
+        assert target.read_text(encoding="utf-8") == alone.out, fmt
 
 
 def test_a_quoted_line_is_a_window_around_the_column(write):
