@@ -12,11 +12,14 @@ nothing in it outlives its run.
 
 from __future__ import annotations
 
+import gc
 import json
 import os
+import select
 import sys
 
 MAX_REQUEST_BYTES = 1 << 20
+IDLE_SECONDS = 0.05  # no request for this long after an expansion: its garbage is collected
 LIBRARY_PRELOAD = ("lxml.etree", "yaml", "xacro", "urdftool.loader", "urdftool.xacro_expand",
                    "urdftool.sdf")
 
@@ -417,6 +420,11 @@ def main() -> None:
             _write(out, {"error": "unreadable request"})
             continue
         _write(out, _answer(request))
+        if isinstance(request, dict) and request.get("op") == "load" and \
+                not select.select([reader], [], [], IDLE_SECONDS)[0]:
+            # an expansion answered and no request since: its garbage (minidom nodes in
+            # reference cycles) is collected now rather than inside the next expansion
+            gc.collect()
 
 
 def _run_test_payload(reader, out) -> None:
