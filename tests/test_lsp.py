@@ -106,6 +106,39 @@ async def test_a_quick_fix_removes_its_diagnostic(client, tmp_path):
     assert published(client, robot.parent) == check_json("--trusted", str(robot.parent))
 
 
+YAML_ENTRY = """<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
+  <xacro:property name="p" value="${xacro.load_yaml('data.yaml')}"/>
+  <link name="base">
+    <inertial>
+      <mass value="${p['mass']}"/>
+      <inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/>
+    </inertial>
+  </link>
+</robot>
+"""
+
+
+async def test_an_unsaved_yaml_edit_is_seen_by_the_xacro_that_loads_it(client, tmp_path):
+    """The YAML a xacro reads with xacro.load_yaml is read from its open buffer (the
+    overlay), not from the disk: an edit is checked before it is saved, as check sees it
+    saved."""
+    (tmp_path / "package.xml").write_text("<package><name>y</name></package>\n",
+                                          encoding="utf-8")
+    robot, data = tmp_path / "r.urdf.xacro", tmp_path / "data.yaml"
+    robot.write_text(YAML_ENTRY, encoding="utf-8")
+    data.write_text("mass: 1.0\n", encoding="utf-8")
+    await open_file(client, robot)
+    await open_file(client, data)
+    assert _at(client, robot, "inertia.mass-not-positive") == []
+    await change(client, data, "mass: -2.0\n")
+    assert data.read_text(encoding="utf-8") == "mass: 1.0\n"  # not saved
+    assert _at(client, robot, "inertia.mass-not-positive") == [5]
+    data.write_text("mass: -2.0\n", encoding="utf-8")
+    assert published(client, tmp_path) == check_json("--trusted", str(tmp_path))
+    await change(client, data, "mass: 1.0\n", version=3)  # and back, still unsaved
+    assert _at(client, robot, "inertia.mass-not-positive") == []
+
+
 async def test_ignore_here_writes_the_suppression_comment(client, tmp_path):
     robot = _copy(tmp_path, ROBOTS / "m2wr" / "published") / "m2wr.xacro"
     text = robot.read_text(encoding="utf-8")

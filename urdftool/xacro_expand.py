@@ -38,7 +38,6 @@ from urdftool.source import (
     parse_text,
     quiet_stderr,
     read_input,
-    read_text,
     shown_path,
     tag_position,
 )
@@ -320,7 +319,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             raise OSError(f"{filename}: not a regular file (a device or a pipe)")
         if os.path.isfile(filename) and os.path.getsize(filename) > MAX_FILE_BYTES:
             raise LimitExceeded(f"{filename}: larger than {MAX_FILE_BYTES >> 20} MB")
-        text = read_text(Path(filename))
+        text = read_input(Path(filename), options)  # an open editor buffer: its text
         source.reads.add(os.path.realpath(filename))  # a trigger of the entry (issue 23)
         return text
 
