@@ -415,13 +415,23 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
         for i, report in zip(later, _check_targets(files, later, options, progress)):
             reports[i] = report
             store_reads(files[i], options.load, report)
-        shown, notes = classify(files, reports, given, selection)
-        report = Report(_one_per_missing_package(merge_repeats(shown)), notes)
-        report.seen = seen_files(files, shown, reports, given)
-        return report
+        return run_report(files, reports, given, selection)
     finally:
         gc.set_threshold(*thresholds)
         budget.stop()
+
+
+def run_report(files: list[Target], reports: list[FileReport], given=None,
+               selection: Selection | None = None) -> Report:
+    """The findings of a run from the report of each planned target, as ``check DIR`` shows
+    them: each file's role (``package.classify``: a fragment's findings come through its
+    entries), repeats merged, one finding per missing package, and the files seen (for
+    baselines). ``check_paths`` and the language server both end here, so that they cannot
+    drift. ``reports`` may be changed (copy them to keep them)."""
+    shown, notes = classify(files, reports, given, selection)
+    report = Report(_one_per_missing_package(merge_repeats(shown)), notes)
+    report.seen = seen_files(files, shown, reports, given)
+    return report
 
 
 def _one_per_missing_package(files: list[FileReport]) -> list[FileReport]:

@@ -6,8 +6,8 @@ arguments, launch-file arguments), a report and a robot per target, and what eac
 An edit marks stale the checks that read the edited file; ``refresh`` re-checks those (the
 entries first: a fragment an entry reads is reported through the entry, so its own check is
 put off until nothing else is waiting) and the unit's findings are then ``check DIR``'s:
-``package.classify``, ``report.merge_repeats`` and the configured baseline, on the same
-reports. Nothing here judges a robot: every finding comes from ``urdftool.check``.
+``check.run_report`` (the last steps of ``check_paths``) and the configured baseline, on the
+same reports. Nothing here judges a robot: every finding comes from ``urdftool.check``.
 
 The buffers are read through ``LoadOptions.overlay`` (in the sandboxed reader too when the
 workspace is untrusted). Used from one thread (the server's worker); ``snapshot`` is replaced
@@ -23,12 +23,12 @@ import sys
 from pathlib import Path
 from typing import ClassVar, NamedTuple
 
-from urdftool.check import CheckOptions, _one_per_missing_package, check_model
+from urdftool.check import CheckOptions, check_model, run_report
 from urdftool.config import Config, load_config
 from urdftool.errors import ToolError
 from urdftool.loader import run_roots
-from urdftool.package import Target, classify, package_root, plan, seen_files
-from urdftool.report import Diagnostic, FileReport, Report, merge_repeats
+from urdftool.package import Target, package_root, plan
+from urdftool.report import Diagnostic, FileReport
 from urdftool.source import ROBOT_SUFFIXES, LoadOptions
 
 # a directory that is no package (no package.xml, no configuration above the file) is checked
@@ -356,10 +356,8 @@ class Engine:
                 report.args
             reports.append(copied)
         targets = [t for t, r in zip(unit.targets, unit.reports) if r is not None]
-        shown, notes = classify(targets, reports)
-        report = Report(_one_per_missing_package(merge_repeats(shown)), notes)  # as check_paths
-        report.seen = seen_files(targets, shown, reports, None)  # as check_paths (baselines)
-        if unit.config.baseline is not None:
+        report = run_report(targets, reports)  # check DIR's own last steps
+        if unit.config.baseline is not None:  # as the CLI applies the configured one
             from urdftool.baseline import apply_baseline
 
             try:
