@@ -64,6 +64,27 @@ def test_an_edit_rechecks_only_the_checks_that_read_the_file(tmp_path):
     assert engine.refresh_pending() and checked == ["robot.urdf.xacro", "macros.xacro"]
 
 
+def test_an_open_file_no_check_reads_costs_nothing(tmp_path):
+    """A YAML file opened in the editor makes no check of its own (editors send every YAML
+    buffer); once an entry that loads it is checked, an unsaved edit of it re-checks the
+    entry, which reads the buffer."""
+    (tmp_path / "package.xml").write_text("<package/>", encoding="utf-8")
+    (tmp_path / "macros.xacro").write_text(MACROS, encoding="utf-8")
+    (tmp_path / "data.yaml").write_text(DATA, encoding="utf-8")
+    (tmp_path / "robot.urdf.xacro").write_text(ENTRY, encoding="utf-8")
+    (tmp_path / "ci.yaml").write_text("on: push\n", encoding="utf-8")
+    engine = _engine()
+    data = str(tmp_path / "data.yaml")
+    assert engine.refresh([str(tmp_path / "ci.yaml"), data]) == [] and not engine.units
+    engine.refresh([str(tmp_path / "robot.urdf.xacro")])
+    engine.set_buffer(data, DATA.replace("items: [1, 2]", "items: [1, 2, 3, 4]"))
+    assert engine.refresh([data])
+    result = next(iter(engine.snapshot.values()))
+    names = {link.name for _, robot in result.checks if robot is not None
+             for link in robot.links}
+    assert "n4" in names and "n2" not in names, names  # the buffer's data, not the disk's
+
+
 def _two_fragments(tmp_path):
     """An entry including two macro files, both edited: both own checks are put off."""
     (tmp_path / "package.xml").write_text("<package/>", encoding="utf-8")

@@ -20,6 +20,9 @@ async function start() {
   client = new LanguageClient('urdftool', 'urdftool', { command, args: ['lsp'] }, {
     documentSelector: [
       { scheme: 'file', pattern: '**/*.{urdf,xacro,sdf}' },
+      // the YAML files a xacro loads (xacro.load_yaml): an unsaved edit is checked through
+      // the xacro; a YAML file no check reads costs the server nothing
+      { scheme: 'file', pattern: '**/*.{yaml,yml}' },
     ],
     initializationOptions: { trusted: vscode.workspace.isTrusted, ...settings() },
     synchronize: { configurationSection: 'urdftool' },

@@ -113,6 +113,8 @@ def fix_all_edits(server, path: str) -> list[lsp.TextEdit] | None:
     engine = server.engine
     key = resolved(path)
     unit = engine.unit_of(path)
+    if unit is None:
+        return None
     candidates = [(t, r) for t, r in zip(unit.targets, unit.reports)
                   if r is not None and key in engine._reads(r)]
     candidates.sort(key=lambda tr: (not (tr[0].configured or tr[1].role == "entry"),

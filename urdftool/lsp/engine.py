@@ -34,6 +34,7 @@ from urdftool.source import ROBOT_SUFFIXES, LoadOptions
 # a directory that is no package (no package.xml, no configuration above the file) is checked
 # as `check DIR` would when it holds at most this many robot files, else the file alone
 MAX_LOOSE_FILES = 64
+CONFIGURATIONS = ("urdftool.toml", "pyproject.toml", "package.xml")  # a unit plans again
 ERROR_RULE = ""  # a check that could not run (`check` exits 2): said at the file's first line
 
 
@@ -211,7 +212,7 @@ class Engine:
             if not inside and not any(key in self._reads(r) for r in unit.reports
                                       if r is not None):
                 continue
-            if inside and (name in ("urdftool.toml", "pyproject.toml", "package.xml") or (
+            if inside and (name in CONFIGURATIONS or (
                     name.endswith(ROBOT_SUFFIXES) and key not in self._paths(unit))):
                 unit.planned = False
                 continue
@@ -230,12 +231,16 @@ class Engine:
 
     # -- units ---------------------------------------------------------------------------
 
-    def unit_of(self, path: str) -> Unit:
-        """The unit whose checks read ``path``, or the unit of its package (made now)."""
+    def unit_of(self, path: str) -> Unit | None:
+        """The unit whose checks read ``path``, or the unit of its package (made now) for a
+        robot file or a configuration; None for another file no check reads (a YAML file, a
+        mesh... opened in the editor: checked when an entry that reads it is)."""
         key = resolved(path)
         for unit in self.units.values():
             if any(r is not None and key in self._reads(r) for r in unit.reports):
                 return unit
+        if not key.endswith(ROBOT_SUFFIXES) and Path(key).name not in CONFIGURATIONS:
+            return None
         root = self._root(Path(key))
         unit = self.units.get(root)
         if unit is None:
@@ -276,6 +281,8 @@ class Engine:
         fragments put off too); the roots of the units whose result changed."""
         changed = []
         for unit in dict.fromkeys(self.unit_of(p) for p in paths):
+            if unit is None:
+                continue
             if not unit.planned:
                 self._plan(unit)
             if not unit.stale and unit.root in self.snapshot:
