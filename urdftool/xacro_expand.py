@@ -17,6 +17,7 @@ locations, and the problems found.
 from __future__ import annotations
 
 import contextlib
+import functools
 import os
 import re
 import time
@@ -592,12 +593,27 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
 
     if getattr(options, "lenient", False):
         xacro.eval_text = lenient_eval_text
+    text_of = xacro.eval_text
+
+    def eval_text(text, symbols):
+        """A text without ``$`` is its own value (xacro lexes every attribute and text node,
+        whitespace included, to find that out)."""
+        if type(text) is str and "$" not in text:
+            return text
+        return text_of(text, symbols)
+
+    xacro.eval_text = eval_text
+    # a name is a valid identifier or not whatever the file (xacro parses it with ast each
+    # time); verbosity 0: no location printed after the warnings that go nowhere
+    more = (xacro.is_valid_name, xacro.verbosity)
+    xacro.is_valid_name = functools.lru_cache(maxsize=4096)(more[0])
     xml.dom.minidom.NodeList = _ChildList
     xml.dom.minidom._clone_node = _clone_node
     xacro.get_boolean_value, xacro.get_include_files = get_boolean_value, get_include_files
     try:
         yield xacro
     finally:
+        xacro.is_valid_name, xacro.verbosity = more
         xml.dom.minidom.NodeList = node_list
         xml.dom.minidom._clone_node = _CLONE_NODE
         (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
@@ -622,7 +638,7 @@ def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Polic
     with quiet_stderr(), _patched_xacro(work, files, options, path, policy) as xacro:
         try:
             xacro.init_stacks(str(path))
-            doc = xacro.process_file(str(path), mappings=dict(options.xacro_args))
+            doc = xacro.process_file(str(path), mappings=dict(options.xacro_args), verbosity=0)
             _mark_blank_only(doc)
             expanded = doc.toxml()
         except _Reported:
