@@ -42,6 +42,7 @@ from urdftool.report import (
     group_instances,
     merge_repeats,
 )
+from urdftool.roots import real
 from urdftool.rules import load_all, selected
 from urdftool.source import LoadOptions
 
@@ -319,7 +320,7 @@ def finish(source, robot, diagnostics: list[Diagnostic], texts: dict[str, str]) 
                                     d.rule))
     report = FileReport(source.path, robot.name, diagnostics, texts)
     report.args = {}
-    report.includes = tuple(sorted({str(Path(p).resolve()) for p in texts
+    report.includes = tuple(sorted({real(p) for p in texts
                                     if p != source.path} | other_inputs(source, robot)))
     report.role = role(source, robot)
     return report
@@ -357,6 +358,16 @@ SECONDS_PER_BYTE = 3e-7
 WORK_PER_WORKER = 1.0
 
 
+def _cost(path: str, per_file: float = SECONDS_PER_FILE,
+          per_byte: float = SECONDS_PER_BYTE) -> float:
+    """The estimated seconds of checking ``path``: ``per_file`` plus ``per_byte`` a byte."""
+    try:
+        size = os.stat(path).st_size
+    except OSError:
+        size = 0
+    return per_file + size * per_byte
+
+
 def default_jobs(paths: list, per_file: float = SECONDS_PER_FILE,
                  per_byte: float = SECONDS_PER_BYTE) -> int:
     """The most worker processes worth having when --jobs is not given: one per
@@ -365,14 +376,29 @@ def default_jobs(paths: list, per_file: float = SECONDS_PER_FILE,
     files is checked in this process (issue 15: a pool of 2 was 1.2x slower than one process
     on the corpus); ``check`` then measures (see ``_check_measured``). ``urdftool sim`` sizes
     its pool the same way with its own costs."""
-    work = 0.0
-    for path in paths:
-        try:
-            size = os.stat(path).st_size
-        except OSError:
-            size = 0
-        work += per_file + size * per_byte
+    work = sum(_cost(path, per_file, per_byte) for path in paths)
     return max(1, min(available_cpus(), len(paths), int(work / WORK_PER_WORKER)))
+
+
+RUNS_PER_WORKER = 8
+
+
+def _runs(paths: list[str], jobs: int) -> list[tuple[int, int, float]]:
+    """``paths`` cut into runs of neighbouring files (a directory's robots share meshes: one
+    worker reads them) of about equal estimated cost, ``RUNS_PER_WORKER`` for each of ``jobs``
+    workers: (start, end, cost). Equal counts of files were not equal work (a corpus's 1000 small
+    objects beside its 20 humanoids left one worker busy for seconds after the other ended)."""
+    costs = [_cost(path) for path in paths]
+    share = sum(costs) / (jobs * RUNS_PER_WORKER)
+    runs, start, cost = [], 0, 0.0
+    for index, value in enumerate(costs):
+        cost += value
+        if cost >= share:
+            runs.append((start, index + 1, cost))
+            start, cost = index + 1, 0.0
+    if start < len(paths):
+        runs.append((start, len(paths), cost))
+    return runs
 
 
 def check_paths(paths: list[str], options: CheckOptions | None = None,
@@ -489,7 +515,7 @@ def _check_targets(files: list, todo: list[int], options: CheckOptions, progress
     return checked
 
 
-PROBE = 0.5  # seconds of checking in this process before deciding on workers
+PROBE = 0.25  # seconds of checking in this process before deciding on workers
 
 
 def _check_measured(targets: list, options: CheckOptions, jobs: int, progress) -> list:
@@ -570,24 +596,29 @@ def _check_in_workers(files: list, options: CheckOptions, jobs: int,
     a parser, the OOM killer) breaks the pool: the files it left unchecked are then checked one
     process each, so that only the file that kills its process is reported (ToolError)."""
     import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
 
     context = multiprocessing.get_context("fork")
     files = [f if isinstance(f, Target) else Target(str(f)) for f in files]
     results: list[tuple[bool, object] | None] = [None] * len(files)
-    size = -(-len(files) // (jobs * 4))  # four runs per worker: balance against locality
+    runs = _runs([f.path for f in files], jobs)
+    done = 0
     with ProcessPoolExecutor(jobs, mp_context=context) as pool:
-        futures = [pool.submit(_worker_chunk, files[start:start + size], options)
-                   for start in range(0, len(files), size)]
-        for start, future in zip(range(0, len(files), size), futures):
+        # the costliest runs first: a worker that is free takes the next, and the last runs
+        # to be handed out are short, so the workers finish together
+        futures = {pool.submit(_worker_chunk, files[start:end], options): (start, end)
+                   for start, end, _ in sorted(runs, key=lambda run: -run[2])}
+        for future in as_completed(futures):
+            start, end = futures[future]
             try:
-                results[start:start + size], reads = future.result()
+                results[start:end], reads = future.result()
                 _note_reads(reads)
             except BrokenProcessPool:
                 pass
+            done += end - start
             if progress is not None:
-                progress(min(start + size, len(files)), len(files))
+                progress(done, len(files))
     for index, path in enumerate(files):
         if results[index] is None:
             results[index] = _check_alone(path, options, context)

@@ -66,9 +66,23 @@ def run_roots(paths, options: LoadOptions | None = None, environ=None) -> Roots:
     key = (tuple(os.path.abspath(os.fspath(p)) for p in paths), tuple(operator))
     roots = _ROOTS.get(key)
     if roots is None:
-        repositories = [repository_for(p) for p in paths]
-        roots = _ROOTS[key] = Roots(repositories, [*operator, EXAMPLES])
+        roots = _ROOTS[key] = Roots(_repositories(paths), [*operator, EXAMPLES])
     return roots
+
+
+def _repositories(paths) -> list:
+    """``repository_for`` of each path, asked once per directory for the files of one
+    directory (a file's repository is its directory's: a thousand files of one folder walked
+    the same parents a thousand times)."""
+    found: dict[str, object] = {}
+    repositories = []
+    for path in paths:
+        absolute = os.path.abspath(os.fspath(path))
+        key = absolute if os.path.isdir(absolute) else os.path.dirname(absolute)
+        if key not in found:
+            found[key] = repository_for(absolute)
+        repositories.append(found[key])
+    return repositories
 
 
 def roots_of(path, options: LoadOptions) -> Roots:

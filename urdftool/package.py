@@ -31,7 +31,7 @@ from urdftool.config import find_config, parse_config
 from urdftool.errors import ToolError
 from urdftool.files import read_head, read_regular
 from urdftool.report import FileReport
-from urdftool.roots import resolved
+from urdftool.roots import is_file, real, resolved
 from urdftool.source import _INCLUDE, ROBOT_SUFFIXES, shown_path
 from urdftool.textscan import without_comments
 
@@ -402,7 +402,7 @@ def plan(paths: list[str], changed: bool = False, selection: Selection | None = 
     configured: set[str] = set()
     for file in files:
         config = _config_of(file, configs)
-        resolved = str(file.resolve())
+        resolved = real(file)
         packages = config.packages if config is not None else {}
         entries = [e for e in config.entries if str(e.path) == resolved] if config else []
         if entries:
@@ -465,7 +465,7 @@ def classify(targets: list[Target], reports: list[FileReport],
 
     In changed-files mode, only the reports that read a given file are kept, restricted to
     findings in the given files."""
-    resolved = [str(Path(t.path).resolve()) for t in targets]
+    resolved = [real(t.path) for t in targets]
     exact, wildcard = static_includes(reports)
     includers = {path: exact.get(path, set()) | wildcard.get(path, set())
                  for path in {*exact, *wildcard}}
@@ -538,11 +538,11 @@ def seen_files(targets: list[Target], shown: list[FileReport], reports: list[Fil
     file it reads."""
     if given is None:
         return {p for t, r in zip(targets, reports) if r is not None
-                for p in (str(Path(t.path).resolve()), *r.includes)}
+                for p in (real(t.path), *r.includes)}
     by_report = {id(r): t for t, r in zip(targets, reports)}
     seen: set[str] = set()
     for report in shown:
-        files = {str(Path(report.path).resolve()), *report.includes}
+        files = {real(report.path), *report.includes}
         target = by_report.get(id(report))
         if target is not None and triggers(target, report, given):
             seen |= files
@@ -566,7 +566,7 @@ def other_inputs(source, robot) -> set[str]:
                         path = resolve(robot, shape.geometry)
                     except Exception:  # noqa: BLE001 - an unresolvable URI is the rules' business
                         path = None
-                    if path is not None and path.is_file():
+                    if path is not None and is_file(path):
                         found.add(resolved(path))
     return found
 
@@ -696,7 +696,7 @@ def static_includes(reports: list[FileReport],
     by_name: dict[str, list[str]] = {}
     for report in reports:
         for name in {report.path, *report.texts}:
-            resolved = str(Path(name).resolve())
+            resolved = real(name)
             known = by_name.setdefault(Path(resolved).name, [])
             if resolved not in known:
                 known.append(resolved)
@@ -705,7 +705,7 @@ def static_includes(reports: list[FileReport],
     seen: set[str] = set()
     for report in reports:
         for name, text in report.texts.items():
-            resolved = str(Path(name).resolve())
+            resolved = real(name)
             if resolved in seen:
                 continue
             seen.add(resolved)

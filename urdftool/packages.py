@@ -14,18 +14,11 @@ import stat
 from pathlib import Path
 
 from urdftool.files import read_regular_text
-from urdftool.roots import has_vcs_component
+from urdftool.roots import has_vcs_component, is_file
 
 _NAME_RE = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 
 
-def is_file(path: Path) -> bool:
-    """``path.is_file()`` that is False, not an OSError, for a name the system refuses (longer
-    than NAME_MAX, say): inputs name files, and a name is not a reason to crash."""
-    try:
-        return path.is_file()
-    except OSError:
-        return False
 
 
 _REALPATHS: dict[str, str] = {}

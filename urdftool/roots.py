@@ -36,12 +36,18 @@ class OutsideRepository(Exception):
 
 
 _RESOLVED: dict[str, str] = {}  # absolute path as given -> its realpath, during one run
+_READABLE: dict[tuple, bool] = {}  # (roots, path as given) -> Roots.readable, during one run
+_REPOSITORIES: dict[str, Path | None] = {}  # absolute directory -> repository_of, during one run
+_FILES: dict[str, bool] = {}  # absolute path as given -> is_file, during one run
 
 
 def forget_resolved() -> None:
     """Start a run: the realpaths memoised by ``resolved`` are forgotten (``loader.run_roots``
     calls it; links may change between runs of one process, as in the editor)."""
     _RESOLVED.clear()
+    _READABLE.clear()
+    _REPOSITORIES.clear()
+    _FILES.clear()
 
 
 def resolved(path) -> str:
@@ -55,6 +61,33 @@ def resolved(path) -> str:
         if os.path.isabs(name):
             _RESOLVED[name] = found
     return found
+
+
+def is_file(path) -> bool:
+    """Whether ``path`` is a regular file (links followed), memoised for the run when absolute;
+    False, not an OSError, for a name the system refuses (longer than NAME_MAX, say)."""
+    name = os.fspath(path)
+    found = _FILES.get(name)
+    if found is None:
+        try:
+            found = os.path.isfile(name)
+        except (OSError, ValueError):
+            found = False
+        if os.path.isabs(name):
+            _FILES[name] = found
+    return found
+
+
+def real(path) -> str:
+    """``resolved`` of ``path`` made absolute, as a string; the absolute path as written when a
+    link on the way cannot be read (what is then asked of it fails as for a missing file).
+    The memoised stand-in for ``str(Path(path).resolve())``, without its RuntimeError on a
+    symbolic-link loop."""
+    name = os.path.abspath(os.fspath(path))
+    try:
+        return resolved(name)
+    except (OSError, ValueError):
+        return name
 
 
 def realpath(path) -> Path:
@@ -83,16 +116,33 @@ def has_vcs_component(path: Path, root: Path) -> bool:
 
 def repository_of(path) -> Path | None:
     """The version-control root above ``path`` (as given: a link's own place, not its
-    target), resolved; None outside any."""
-    start = Path(os.path.abspath(os.fspath(path)))
-    for directory in (start, *start.parents):
-        for name in VCS_DIRS:
-            try:
-                if os.path.lexists(directory / name):
-                    return _root(directory)
-            except OSError:
-                continue
-    return None
+    target), resolved; None outside any. Each directory is looked at once a run (the files
+    of a tree share their parents)."""
+    start = os.path.abspath(os.fspath(path))
+    walked = []
+    directory, found = start, None
+    while True:
+        if directory in _REPOSITORIES:
+            found = _REPOSITORIES[directory]
+            break
+        walked.append(directory)
+        if any(_lexists(os.path.join(directory, name)) for name in VCS_DIRS):
+            found = _root(directory)
+            break
+        parent = os.path.dirname(directory)
+        if parent == directory:
+            break
+        directory = parent
+    for directory in walked:
+        _REPOSITORIES[directory] = found
+    return found
+
+
+def _lexists(path: str) -> bool:
+    try:
+        return os.path.lexists(path)
+    except (OSError, ValueError):
+        return False
 
 
 def repository_for(path) -> Path:
@@ -130,11 +180,12 @@ def clamp(value: str, base: Path, key: str, repository: Path) -> Path:
 class Roots:
     """The places a run may read (all resolved)."""
 
-    __slots__ = ("operator", "repositories")
+    __slots__ = ("_hash", "operator", "repositories")
 
     def __init__(self, repositories=(), operator=()):
         self.repositories = tuple(dict.fromkeys(_root(p) for p in repositories))
         self.operator = tuple(dict.fromkeys(_root(p) for p in operator))
+        self._hash = hash((self.repositories, self.operator))
 
     def __repr__(self) -> str:
         return f"Roots({list(map(str, self.repositories))}, {list(map(str, self.operator))})"
@@ -144,18 +195,28 @@ class Roots:
             other.repositories, other.operator)
 
     def __hash__(self) -> int:
-        return hash((self.repositories, self.operator))
+        return self._hash
+
+    def __reduce__(self):  # the hash of str differs between interpreters: made there again
+        return Roots, (self.repositories, self.operator)
 
     def all(self) -> list[Path]:
         return [*self.repositories, *self.operator]
 
     def readable(self, path) -> bool:
-        """Whether ``path`` (resolved here) may be read."""
-        try:
-            target = realpath(path)
-        except (OSError, ValueError):
-            return False
-        return self.readable_resolved(target)
+        """Whether ``path`` (resolved here) may be read (memoised for the run, like
+        ``resolved``, when ``path`` is absolute)."""
+        name = os.fspath(path)
+        key = (self, name)
+        found = _READABLE.get(key)
+        if found is None:
+            try:
+                found = self.readable_resolved(realpath(name))
+            except (OSError, ValueError):
+                return False
+            if os.path.isabs(name):
+                _READABLE[key] = found
+        return found
 
     def readable_resolved(self, target: Path) -> bool:
         for root in self.all():

@@ -22,7 +22,7 @@ from urdftool.errors import ToolError
 from urdftool.files import read_regular, read_regular_text
 from urdftool.findings import Finding, Loc
 from urdftool.packages import PackageResolver
-from urdftool.roots import has_vcs_component, repository_for
+from urdftool.roots import has_vcs_component, repository_for, resolved
 from urdftool.textscan import declared_utf8, without_comments
 from urdftool.xmlrepair import repair_and_parse, secure_parser
 
@@ -331,7 +331,7 @@ def find_unread(source: Source, options: LoadOptions | None = None) -> None:
     ``options.overlay`` first, regular files of at most MAX_FILE_BYTES, and only inside the
     package roots when the input is untrusted (this runs in the sandboxed reader then)."""
     pending: list[tuple[str, str]] = list(source.texts.items())
-    seen = {str(Path(p).resolve()) for p in source.texts}
+    seen = {_real(p) for p in source.texts}
 
     def add(spec: str, base: Path) -> None:
         target = _include_target(source, spec, base)
@@ -351,11 +351,20 @@ def find_unread(source: Source, options: LoadOptions | None = None) -> None:
             filename = element.get("filename")
             if filename and not any(isinstance(a.tag, str) and a.tag in FOREIGN_BLOCKS
                                     for a in element.iterancestors()):
-                add(filename, Path(source.loc(element).path).resolve().parent)
+                add(filename, Path(_real(source.loc(element).path)).parent)
     while pending:  # and the includes (of any kind) of every file, transitively
         path, text = pending.pop()
         for spec in re.findall(_INCLUDE, text):
-            add(spec, Path(path).resolve().parent)
+            add(spec, Path(_real(path)).parent)
+
+
+def _real(path) -> str:
+    """The realpath of ``path`` (memoised for the run); as written when a link on the way
+    cannot be read (what is then asked of it fails as for a missing file)."""
+    try:
+        return resolved(os.path.abspath(path))
+    except (OSError, ValueError):
+        return os.path.abspath(path)
 
 
 def _include_target(source: Source, spec: str, base: Path) -> Path | None:
@@ -375,7 +384,7 @@ def _include_target(source: Source, spec: str, base: Path) -> Path | None:
         path = Path(_FIND.sub(find, spec))
     except LookupError:
         return None
-    path = (path if path.is_absolute() else base / path).resolve()
+    path = Path(_real(path if path.is_absolute() else base / path))
     if resolver is not None and not resolver.allows(path):
         return None
     try:
