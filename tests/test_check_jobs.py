@@ -148,3 +148,28 @@ def test_default_jobs_follow_the_amount_of_work(monkeypatch, tmp_path, write):
     check.check_paths([str(tmp_path)], check.CheckOptions(jobs=1))
     check.check_paths([str(tmp_path)], check.CheckOptions(jobs=2))
     assert seen == [(2, 5), (2, 6)]
+
+
+def test_runs_cover_the_files_in_order_with_about_equal_cost(tmp_path):
+    """The worker runs: contiguous, covering every file once, and of about equal estimated
+    cost (a thousand small files and a few large ones are not cut by count)."""
+    paths = []
+    for index in range(300):
+        path = tmp_path / f"small_{index:03d}.urdf"
+        path.write_text(GOOD)
+        paths.append(str(path))
+    for index in range(6):
+        path = tmp_path / f"zlarge_{index}.urdf"
+        path.write_text(GOOD + "<!--" + "x" * 400_000 + "-->\n")
+        paths.append(str(path))
+    runs = check._runs(paths, 2)
+    assert runs[0][0] == 0 and runs[-1][1] == len(paths)
+    assert all(a[1] == b[0] for a, b in zip(runs, runs[1:]))
+    costs = [check._cost(p) for p in paths]
+    assert all(abs(cost - sum(costs[start:end])) < 1e-9 for start, end, cost in runs)
+    share = sum(costs) / (2 * check.RUNS_PER_WORKER)
+    largest = max(costs)
+    # each run but the last reaches the share and overshoots it by less than one file
+    assert all(share <= cost < share + largest for _, _, cost in runs[:-1])
+    # the large files are not all in one run (a count-based cut put them together)
+    assert len({start for start, end, _ in runs for i in range(start, end) if i >= 300}) >= 3

@@ -336,3 +336,40 @@ def test_realpaths_are_memoised_for_one_run_only(tmp_path):
     relative = os.path.relpath(link)  # relative to the working directory: never kept
     assert roots.resolved(relative) == os.path.realpath(outside)
     assert relative not in roots._RESOLVED
+
+
+def test_memoised_realpath_is_realpath(tmp_path):
+    """``roots.resolved`` (each directory resolved once a run, a plain last name appended)
+    answers what ``os.path.realpath`` answers, through links, links to links, ``..`` after
+    missing folders, loops and an unreadable link, fresh or with the memo of earlier names."""
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    from urdftool.roots import forget_resolved, resolved
+
+    root = tmp_path / "tree"
+    (root / "a" / "b").mkdir(parents=True)
+    (root / "a" / "b" / "f").write_text("")
+    for name, target in (("l", root / "a" / "b"), ("loop1", root / "loop2"),
+                         ("loop2", root / "loop1"), ("self", "self"), ("p", "/proc/1/root")):
+        os.symlink(target, root / name)
+    os.symlink("../a", root / "a" / "b" / "up")
+    os.symlink("f", root / "a" / "b" / "lf")
+    parts = ["a", "b", "l", "loop1", "loop2", "up", "f", "lf", "..", ".", "x", "", "p", "self"]
+
+    def answer(function, name):
+        try:
+            return function(name)
+        except OSError as exc:
+            return type(exc)
+
+    @settings(max_examples=500, deadline=None)
+    @given(st.lists(st.sampled_from(parts), max_size=7), st.booleans())
+    def same(names, fresh):
+        name = str(root) + "/" + "/".join(names)
+        if fresh:
+            forget_resolved()
+        assert answer(resolved, name) == answer(os.path.realpath, name), name
+
+    same()
+    forget_resolved()

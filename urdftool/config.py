@@ -65,15 +65,18 @@ def find_config(start: Path, memo: dict | None = None) -> tuple[Path, dict] | No
     """The nearest configuration above ``start``: (its file, its table). ``memo`` (directory ->
     what it holds) spares reading the same directories again during one run."""
     memo = memo if memo is not None else {}
-    directory = Path(resolved(start))
-    directory = directory if directory.is_dir() else directory.parent
-    for parent in (directory, *directory.parents):
-        found = memo.get(parent)
+    name = resolved(start)
+    directory = name if os.path.isdir(name) else os.path.dirname(name)
+    while True:
+        found = memo.get(directory)
         if found is None:
-            found = memo[parent] = _config_in(parent)
+            found = memo[directory] = _config_in(Path(directory))
         if found:
             return found
-    return None
+        parent = os.path.dirname(directory)
+        if parent == directory:
+            return None
+        directory = parent
 
 
 def _config_in(directory: Path) -> tuple[Path, dict] | bool:

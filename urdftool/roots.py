@@ -12,7 +12,9 @@ run, once; the readers only ask ``Roots.readable``.
 
 from __future__ import annotations
 
+import errno
 import os
+import stat
 from pathlib import Path
 
 VCS_DIRS = (".git", ".hg", ".svn")
@@ -57,10 +59,28 @@ def resolved(path) -> str:
     name = os.fspath(path)
     found = _RESOLVED.get(name)
     if found is None:
-        found = os.path.realpath(name)
-        if os.path.isabs(name):
-            _RESOLVED[name] = found
+        if not os.path.isabs(name):
+            return os.path.realpath(name)
+        found = _RESOLVED[name] = _realpath(name)
     return found
+
+
+def _realpath(name: str) -> str:
+    """``os.path.realpath`` of absolute ``name``: a last component that is a plain name and not
+    a symbolic link is appended to its directory's (memoised) realpath, as ``realpath`` does
+    component by component (the files of one folder walk its parents once)."""
+    head, tail = os.path.split(name)
+    if head and head != name and tail not in ("", ".", ".."):
+        joined = os.path.join(resolved(head), tail)
+        try:
+            link = stat.S_ISLNK(os.lstat(joined).st_mode)
+        except OSError as exc:  # missing or unreachable: realpath keeps the name (a loop
+            link = exc.errno == errno.ELOOP  # on the way: realpath's own answer)
+        except ValueError:
+            link = False
+        if not link:
+            return joined
+    return os.path.realpath(name)
 
 
 def is_file(path) -> bool:
