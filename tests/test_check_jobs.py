@@ -3,6 +3,7 @@ in the same order; a file that cannot be checked is reported as without workers.
 
 from __future__ import annotations
 
+import itertools
 import json
 import os
 import shutil
@@ -164,7 +165,7 @@ def test_runs_cover_the_files_in_order_with_about_equal_cost(tmp_path):
         paths.append(str(path))
     runs = check._runs(paths, 2)
     assert runs[0][0] == 0 and runs[-1][1] == len(paths)
-    assert all(a[1] == b[0] for a, b in zip(runs, runs[1:]))
+    assert all(a[1] == b[0] for a, b in itertools.pairwise(runs))
     costs = [check._cost(p) for p in paths]
     assert all(abs(cost - sum(costs[start:end])) < 1e-9 for start, end, cost in runs)
     share = sum(costs) / (2 * check.RUNS_PER_WORKER)
