@@ -471,3 +471,27 @@ def test_fuzz_oracle_judges_output():
     assert fuzz.hijackable("ok\n  ::error::x\n") and fuzz.hijackable("a ##[error]b")
     assert fuzz.hijackable("a\x1b[31m") and fuzz.hijackable("a\u202eb")
     assert fuzz.hostile_name('<link name="a"/>', random.Random(0)) != '<link name="a"/>'
+
+
+def test_indented_json_is_the_standard_encoders_text():
+    """``report.dumps_indented`` (the JSON and SARIF writer) gives exactly the text of
+    ``json.dumps(value, indent=2)`` for any JSON value (hypothesis: nesting, empty
+    containers, tuples, non-ASCII and lone surrogates, nan and infinities, big integers, and
+    keys that are not strings, which go to the standard encoder)."""
+    from hypothesis import given, settings
+    from hypothesis import strategies as st
+
+    from urdftool.report import dumps_indented
+
+    leaves = st.none() | st.booleans() | st.integers() | st.floats() | st.text()
+    values = st.recursive(leaves, lambda inner: st.lists(inner, max_size=4)
+                          | st.lists(inner, max_size=3).map(tuple)
+                          | st.dictionaries(st.text(max_size=5) | st.integers(), inner,
+                                            max_size=4), max_leaves=30)
+
+    @settings(max_examples=150, deadline=None)
+    @given(values)
+    def same(value):
+        assert dumps_indented(value) == json.dumps(value, indent=2)
+
+    same()

