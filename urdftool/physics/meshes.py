@@ -13,7 +13,9 @@ from __future__ import annotations
 import math
 import re
 import warnings
+from array import array
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 from urdftool.packages import is_file, resolved
@@ -76,7 +78,9 @@ class MeshInfo:
     solid: Solid | None = None  # unit density; None when the mesh encloses no volume
     watertight: bool = False
     used_hull: bool = False  # mass properties are the convex hull's (mesh not a closed volume)
-    hull: tuple = field(default=(), repr=False)  # convex-hull vertices: (x, y, z) float tuples
+    # the convex hull's vertices, x y z after another (float64): kept flat, as the cache stores
+    # it (numpy takes it as it is; ``hull`` makes tuples of a small one only when asked)
+    flat: array = field(default_factory=lambda: array("d"), repr=False)
     lower: Vec3 = (0.0, 0.0, 0.0)
     upper: Vec3 = (0.0, 0.0, 0.0)
     faces: int = 0
@@ -88,6 +92,16 @@ class MeshInfo:
     @property
     def ok(self) -> bool:
         return self.error is None and not self.unsupported
+
+    @cached_property
+    def hull(self) -> tuple:
+        """The convex-hull vertices as (x, y, z) float tuples."""
+        values = iter(self.flat)
+        return tuple(zip(values, values, values))
+
+    @property
+    def hull_size(self) -> int:
+        return len(self.flat) // 3
 
     @property
     def extents(self) -> Vec3:
@@ -182,7 +196,7 @@ def _encode(info: MeshInfo) -> tuple[dict, object]:
     header = {"error": info.error, "faces": info.faces, "lower": info.lower,
               "upper": info.upper, "up": up, "has_volume": info.has_volume,
               "watertight": info.watertight, "used_hull": info.used_hull, "solid": solid}
-    return header, [x for point in info.hull for x in point]
+    return header, info.flat
 
 
 def _floats(value, count: int) -> bool:
@@ -208,8 +222,8 @@ def _decode(path: Path, stored) -> MeshInfo | None:
     if len(values) == 0 or len(values) % 3:
         return None
     second = tuple(tuple(solid[4 + 3 * i:7 + 3 * i]) for i in range(3)) if solid else None
-    coordinates = iter(values)
-    return MeshInfo(str(path), hull=tuple(zip(coordinates, coordinates, coordinates)), lower=tuple(header["lower"]),
+    return MeshInfo(str(path), flat=values if type(values) is array else array("d", values),
+                    lower=tuple(header["lower"]),
                     upper=tuple(header["upper"]), faces=header["faces"],
                     up_rotation=_UP_ROTATIONS[up.encode()] if up else None,
                     has_volume=flags[0], watertight=flags[1], used_hull=flags[2],
@@ -518,7 +532,8 @@ def _summarise(path: Path, vertices, faces, mesh, need_volume: bool) -> MeshInfo
     upper = tuple(float(x) for x in vertices.max(axis=0))
     points, index = _distinct(vertices)
     hull_points, hull_triangles = _hull(points)
-    info = {"path": str(path), "hull": tuple(map(tuple, hull_points.tolist())), "lower": lower, "upper": upper,
+    flat = array("d", np.ascontiguousarray(hull_points, dtype=np.float64).ravel().tolist())
+    info = {"path": str(path), "flat": flat, "lower": lower, "upper": upper,
             "faces": len(faces), "up_rotation": up_rotation}
     if not need_volume:
         return MeshInfo(**info)  # type: ignore[arg-type]
@@ -552,12 +567,14 @@ def _columns(info: MeshInfo):
     if columns is None or columns[0] is not info:
         import numpy as np
 
-        hull = info.hull
-        if info.up_rotation is not None:
+        if info.up_rotation is None:
+            points = np.frombuffer(info.flat, dtype=np.float64).reshape(-1, 3)
+        else:
+            hull = info.hull
             hull = (*hull, *(mat_vec(info.up_rotation, p) for p in hull))
-        array = np.array(hull, dtype=np.float64).reshape(-1, 3)
-        columns = _COLUMNS[id(info)] = (info, array[:, 0].copy(), array[:, 1].copy(),
-                                        array[:, 2].copy())
+            points = np.array(hull, dtype=np.float64).reshape(-1, 3)
+        columns = _COLUMNS[id(info)] = (info, points[:, 0].copy(), points[:, 1].copy(),
+                                        points[:, 2].copy())
     return columns[1:]
 
 
@@ -574,8 +591,7 @@ class MeshExtent(Extent):
 
     def __init__(self, info: MeshInfo, scale: Vec3, rotation: Mat3, translation: Vec3):
         super().__init__(rotation, translation)
-        hull = info.hull
-        count = len(hull) * (2 if info.up_rotation is not None else 1)
+        count = info.hull_size * (2 if info.up_rotation is not None else 1)
         sx, sy, sz = scale
         (a, b, c), (d, e, f), (g, h, i) = rotation
         tx, ty, tz = translation
@@ -587,6 +603,7 @@ class MeshExtent(Extent):
                             g * x + h * y + i * z + tz)
             self.points = None
             return
+        hull = info.hull
         if info.up_rotation is not None:  # either orientation: the union of both
             hull = (*hull, *(mat_vec(info.up_rotation, p) for p in hull))
         points = []
