@@ -173,3 +173,39 @@ def test_hull_distance_box_and_cylinder():
     assert distance == pytest.approx(0.065)
     assert width == pytest.approx(0.035 + 0.1)  # from the box top to the caster's bottom
     assert phys.hull_escape((0.28, 0, -0.03), [chassis, caster]) == (0.0, 0.0)  # in between
+
+
+def test_mesh_extent_numpy_and_python_paths_give_the_same_floats(monkeypatch):
+    """A placed hull is queried with Python loops (small, numpy not loaded) or numpy arrays:
+    the same floats either way (support vertex, squared reach per axis, the hull-escape
+    distance), on random hulls with repeated extremes, scales, rotations, both up axes."""
+    import random
+
+    from urdftool.physics import inertia as phys
+    from urdftool.physics import meshes
+
+    rng = random.Random(7)
+    for trial in range(60):
+        count = rng.choice([4, 9, 30, 60])
+        points = [tuple(rng.choice([-1.0, 1.0, 0.5]) * rng.random() for _ in range(3))
+                  for _ in range(count)]
+        points += points[: count // 3]  # equal extremes: the first of equals is chosen
+        flat = [x for p in points for x in p]
+        up = None if trial % 3 else meshes._UP_ROTATIONS[b"Y"]
+        info = meshes.MeshInfo("m.stl", flat=meshes.array("d", flat), up_rotation=up)
+        scale = tuple(rng.uniform(0.1, 2.0) for _ in range(3))
+        rotation = phys.rpy_matrix(tuple(rng.uniform(-3, 3) for _ in range(3)))
+        translation = tuple(rng.uniform(-1, 1) for _ in range(3))
+        directions = [tuple(rng.uniform(-1, 1) for _ in range(3)) for _ in range(5)]
+        origin = tuple(rng.uniform(-0.5, 0.5) for _ in range(3))
+        axes = [(1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0), directions[0]]
+        answers = []
+        for threshold in (10**9, 0):
+            monkeypatch.setattr(meshes, "VECTOR_POINTS", threshold)
+            monkeypatch.setattr(meshes, "VECTOR_POINTS_LOADED", threshold)
+            extent = meshes.MeshExtent(info, scale, rotation, translation)
+            assert (extent.columns is None) == (threshold > 0)
+            answers.append(([extent.support(d) for d in directions],
+                            extent.max_sq_distances(origin, axes),
+                            phys.hull_escape(origin, [extent])))
+        assert answers[0] == answers[1]

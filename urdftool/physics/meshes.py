@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import re
+import sys
 import warnings
 from array import array
 from dataclasses import dataclass, field
@@ -557,7 +558,12 @@ def _summarise(path: Path, vertices, faces, mesh, need_volume: bool) -> MeshInfo
                     used_hull=used_hull)
 
 
-VECTOR_POINTS = 128  # hulls with more vertices are placed and queried with numpy
+# hulls with more vertices are placed and queried with numpy: above ``VECTOR_POINTS``, or
+# above ``VECTOR_POINTS_LOADED`` once numpy is imported (a run over many meshes: its arrays
+# are then cheaper than Python's loops from a few dozen vertices on; a check of one small
+# robot need not import it)
+VECTOR_POINTS = 128
+VECTOR_POINTS_LOADED = 24
 
 
 def _columns(info: MeshInfo):
@@ -596,7 +602,7 @@ class MeshExtent(Extent):
         (a, b, c), (d, e, f), (g, h, i) = rotation
         tx, ty, tz = translation
         self.columns = None
-        if count > VECTOR_POINTS:
+        if count > (VECTOR_POINTS_LOADED if "numpy" in sys.modules else VECTOR_POINTS):
             x, y, z = _columns(info)
             x, y, z = x * sx, y * sy, z * sz
             self.columns = (a * x + b * y + c * z + tx, d * x + e * y + f * z + ty,
