@@ -149,6 +149,19 @@ def ament_packages(prefix: Path | str) -> dict[str, Path]:
     return found
 
 
+def _start_directory(start: str) -> Path:
+    """The resolved directory of a resolver's start (a file: its folder), memoised per
+    process like the rest of this module's answers (every file of a run has a resolver)."""
+    found = _STARTS.get(start)
+    if found is None:
+        directory = Path(resolved(start))
+        found = _STARTS[start] = directory if directory.is_dir() else directory.parent
+    return found
+
+
+_STARTS: dict[str, Path] = {}
+
+
 class PackageResolver:
     """Finds package directories by name for one input file.
 
@@ -186,8 +199,7 @@ class PackageResolver:
         """What ``_discover`` depends on: the start directory, the roots and the environment."""
         directory = None
         if self.start is not None:
-            directory = Path(resolved(self.start))
-            directory = directory if directory.is_dir() else directory.parent
+            directory = _start_directory(os.fspath(self.start))
         return (directory, self.roots, self.environ.get("ROS_PACKAGE_PATH", ""),
                 self.environ.get("AMENT_PREFIX_PATH", ""))
 
