@@ -150,8 +150,8 @@ def ament_packages(prefix: Path | str) -> dict[str, Path]:
 
 
 def _start_directory(start: str) -> Path:
-    """The resolved directory of a resolver's start (a file: its folder), memoised per
-    process like the rest of this module's answers (every file of a run has a resolver)."""
+    """The resolved directory of a resolver's start (absolute; a file: its folder), memoised
+    per process like the rest of this module's answers (every file of a run has a resolver)."""
     found = _STARTS.get(start)
     if found is None:
         directory = Path(resolved(start))
@@ -199,7 +199,7 @@ class PackageResolver:
         """What ``_discover`` depends on: the start directory, the roots and the environment."""
         directory = None
         if self.start is not None:
-            directory = _start_directory(os.fspath(self.start))
+            directory = _start_directory(os.path.abspath(self.start))
         return (directory, self.roots, self.environ.get("ROS_PACKAGE_PATH", ""),
                 self.environ.get("AMENT_PREFIX_PATH", ""))
 
