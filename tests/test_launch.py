@@ -117,3 +117,63 @@ def test_hostile_launch_files_are_bounded(tmp_path):
         '<!DOCTYPE l [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;">]>'
         '<launch><param command="xacro a.xacro k:=&b;"/></launch>')
     assert launch_arguments(root) == {}
+
+
+@pytest.mark.parametrize("fmt", ["text", "json", "sarif", "github", "junit"])
+def test_a_launch_file_over_the_limit_is_one_located_finding(tmp_path, monkeypatch, fmt):
+    """Refused unread for its size (issue 21): one ``xacro.limit-exceeded`` warning at the
+    launch file, in every format; the package's robots are still checked."""
+    from urdftool.launch import MAX_BYTES
+
+    big = XML_LAUNCH.format(model="blackfly") + "<!--" + "x" * MAX_BYTES + "-->\n"
+    root = _package(tmp_path, "display.launch", big)
+    monkeypatch.chdir(tmp_path)
+    result = run_urdftool("check", "--format", fmt, "--jobs", "1", root.name)
+    assert "Traceback" not in result.err
+    assert result.out.count("display.launch") >= 1
+    if fmt == "json":
+        report = json.loads(result.out)
+        found = [(f["path"], d["rule"], d["severity"], d["line"]) for f in report["files"]
+                 for d in f["diagnostics"] if d["path"].endswith(".launch")]
+        assert found == [("cam_description/launch/display.launch", "xacro.limit-exceeded",
+                          "warning", None)]
+        message = next(d["message"] for f in report["files"] for d in f["diagnostics"]
+                       if d["path"].endswith(".launch"))
+        size = (root / "launch" / "display.launch").stat().st_size
+        assert f"{size >> 10} KB, larger than the {MAX_BYTES >> 10} KB" in message
+        # the entry went on, checked without the launch file's model:=blackfly
+        entry = next(f for f in report["files"] if f["path"].endswith("display.urdf.xacro"))
+        assert any("$(arg model)" in d["message"] for d in entry["diagnostics"])
+    elif fmt == "sarif":
+        results = json.loads(result.out)["runs"][0]["results"]
+        assert [r["ruleId"] for r in results
+                if r["locations"][0]["physicalLocation"]["artifactLocation"]["uri"]
+                .endswith("display.launch")] == ["xacro.limit-exceeded"]
+    else:
+        assert result.out.count("larger than the 256 KB urdftool reads") == 1, result.out
+
+
+def test_refused_launch_files_reach_the_language_server_engine(tmp_path):
+    """The editor plans a package as ``check DIR`` does: the same finding at the launch file,
+    and at the launch directory when it holds more files than are read."""
+    from urdftool.launch import MAX_BYTES, MAX_FILES
+    from urdftool.lsp.engine import Engine, Settings
+
+    big = XML_LAUNCH.format(model="blackfly") + "<!--" + "x" * MAX_BYTES + "-->\n"
+    root = _package(tmp_path, "display.launch", big)
+    for i in range(MAX_FILES):
+        (root / "launch" / f"extra{i:02d}.launch").write_text("<launch/>")
+    settings, problems = Settings().updated({"trusted": True}, trust=True)
+    assert problems == []
+    engine = Engine(settings)
+    engine.refresh([str(root / "urdf" / "display.urdf.xacro")])
+    result = engine.snapshot[next(iter(engine.snapshot))]
+    at = {Path(path).name: [(d.rule, d.severity) for d in found]
+          for path, found in result.diagnostics.items()}
+    # sorted: display.launch comes before extra00..extra63, so it is among those read
+    assert at["display.launch"] == [("xacro.limit-exceeded", "warning")]
+    assert at["launch"] == [("xacro.limit-exceeded", "warning")]
+    message = next(d.message for path, found in result.diagnostics.items()
+                   if path.endswith("launch") for d in found)
+    assert f"{MAX_FILES + 1} launch files, more than the {MAX_FILES}" in message
+    assert "1 not read, from launch/extra63.launch on" in message

@@ -20,6 +20,7 @@ from urdftool import budget
 from urdftool import rules as rules_module
 from urdftool.config import Config, suppressions
 from urdftool.errors import NothingToCheck, ToolError
+from urdftool.findings import Loc
 from urdftool.loader import load, run_roots
 from urdftool.model import build_robot
 from urdftool.package import (
@@ -308,6 +309,33 @@ def not_checked(path: Path | str, target: Target | None = None) -> FileReport:
     return report
 
 
+def refused_reports(refused: list[tuple[str, str]], options: CheckOptions,
+                    given: set[str] | None = None) -> list[FileReport]:
+    """One report per file the plan refused unread for its size (``Selection.refused``: a
+    launch file over ``launch.MAX_BYTES``, issue 21), each with one ``xacro.limit-exceeded``
+    warning at the file: the xacro arguments it passes are not known, the package's xacro
+    files are checked without them (an error there says what is missing). In changed-files
+    mode only those among the given files."""
+    rule = load_all().get("xacro.limit-exceeded")
+    select = options.select or options.config.select
+    ignore = options.ignore + options.config.ignore
+    if rule is None or not selected(rule.id, select, ignore):
+        return []
+    configured = options.config.severity.get(rule.id)  # else a warning: the robots were checked
+    reports = []
+    for path, why in refused:
+        if given is not None and str(Path(path).resolve()) not in given:
+            continue
+        finding = Finding(f"{why}; the xacro arguments passed there are not known",
+                          Loc(path, None, None), severity=None if configured else "warning",
+                          hint="split the launch files, or list the entries and their arguments "
+                               "in urdftool.toml")
+        report = FileReport(path, None, [_diagnostic(rule, configured, finding, path)], {})
+        report.role = "refused"
+        reports.append(report)
+    return reports
+
+
 def finish(source, robot, diagnostics: list[Diagnostic], texts: dict[str, str]) -> FileReport:
     """The FileReport: suppressed findings dropped, macro instances grouped, the rest in file
     and line order."""
@@ -441,22 +469,26 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
         for i, report in zip(later, _check_targets(files, later, options, progress)):
             reports[i] = report
             store_reads(files[i], options.load, report)
-        return run_report(files, reports, given, selection)
+        return run_report(files, reports, given, selection, options)
     finally:
         gc.set_threshold(*thresholds)
         budget.stop()
 
 
 def run_report(files: list[Target], reports: list[FileReport], given=None,
-               selection: Selection | None = None) -> Report:
+               selection: Selection | None = None, options: CheckOptions | None = None) -> Report:
     """The findings of a run from the report of each planned target, as ``check DIR`` shows
     them: each file's role (``package.classify``: a fragment's findings come through its
-    entries), repeats merged, one finding per missing package, and the files seen (for
-    baselines). ``check_paths`` and the language server both end here, so that they cannot
-    drift. ``reports`` may be changed (copy them to keep them)."""
+    entries), repeats merged, one finding per missing package, what the plan refused unread
+    (``selection.refused``: ``refused_reports``), and the files seen (for baselines).
+    ``check_paths`` and the language server both end here, so that they cannot drift.
+    ``reports`` may be changed (copy them to keep them)."""
     shown, notes = classify(files, reports, given, selection)
-    report = Report(_one_per_missing_package(merge_repeats(shown)), notes)
-    report.seen = seen_files(files, shown, reports, given)
+    refused = refused_reports(selection.refused, options or CheckOptions(), given) \
+        if selection is not None else []
+    report = Report(_one_per_missing_package(merge_repeats(shown)) + refused, notes)
+    report.seen = seen_files(files, shown, reports, given) | {
+        str(Path(r.path).resolve()) for r in refused}
     return report
 
 

@@ -21,12 +21,14 @@ entities). A launch file's xacro invocations are found and resolved as launch re
 
 A value that needs anything else (a command's output, an environment variable) is not passed.
 Launch files are found under the package's ``launch/`` directory, at most ``MAX_FILES`` of at
-most ``MAX_BYTES`` each.
+most ``MAX_BYTES`` each; what is refused for its size (a file over ``MAX_BYTES``, the files
+beyond ``MAX_FILES``) is handed back to the caller (``refused``), never skipped in silence.
 """
 
 from __future__ import annotations
 
 import ast
+import errno
 import re
 from pathlib import Path
 
@@ -44,20 +46,31 @@ _PAIR = re.compile(r"(?<!\w)([A-Za-z_]\w*):=(.*)", re.DOTALL)
 ANY = ("any", "")
 
 
-def launch_arguments(root: Path) -> dict[str, list[tuple[dict[str, str], str]]]:
+def launch_arguments(root: Path, refused: list[tuple[Path, str]] | None = None,
+                     ) -> dict[str, list[tuple[dict[str, str], str]]]:
     """xacro file (posix path relative to ``root``) -> the distinct argument sets the launch
     files under ``root/launch`` pass to it, each with the launch file's path (relative to
-    ``root``)."""
+    ``root``). ``refused`` gets (path, why) for what was not read for its size (issue 21):
+    each launch file over ``MAX_BYTES``, and the ``launch`` directory when it holds more than
+    ``MAX_FILES``."""
     found: dict[str, list[tuple[dict[str, str], str]]] = {}
     directory = root / "launch"
     if directory.is_symlink() or not directory.is_dir():
         return found  # nothing outside the package is read
-    files = sorted(p for p in directory.rglob("*") if _is_launch(p))[:MAX_FILES]
+    files = sorted(p for p in directory.rglob("*") if _is_launch(p))
+    if len(files) > MAX_FILES and refused is not None:
+        first = files[MAX_FILES].relative_to(root).as_posix()
+        why = (f"{len(files)} launch files, more than the {MAX_FILES} urdftool reads: "
+               f"{len(files) - MAX_FILES} not read, from {first} on")
+        refused.append((directory, why))
     texts = {}
-    for path in files:
+    for path in files[:MAX_FILES]:
         try:
             texts[path] = read_regular_text(path, MAX_BYTES)
-        except OSError:  # larger than MAX_BYTES, not a regular file, unreadable
+        except OSError as exc:  # larger than MAX_BYTES, unreadable
+            if refused is not None:
+                refused.append((path, f"launch file {exc.strerror}" if exc.errno == errno.EFBIG
+                                else f"launch file not read: {exc.strerror or exc}"))
             continue
     if not texts:
         return found

@@ -87,6 +87,9 @@ class Selection:
         self._specs: dict = {}  # (base, pattern) -> compiled
         self._gitignores: dict[Path, object] = {}  # directory -> its compiled .gitignore
         self.walked = False  # a directory was searched (the run's roles are then counted)
+        # (path as findings name it, why) of what planning refused unread for its size (issue
+        # 21: a launch file over launch.MAX_BYTES): ``check.refused_reports`` reports each
+        self.refused: list[tuple[str, str]] = []
 
     def patterns(self, config) -> list[tuple[Path, str, str]]:
         """(base, pattern, where it was written) of every exclusion that applies under
@@ -421,6 +424,12 @@ def plan(paths: list[str], changed: bool = False, selection: Selection | None = 
                 if str(entry.path) not in configured:
                     targets.append(Target(str(_shown(entry.path, paths)), entry.args, config.packages,
                                           True))
+    known = {shown for shown, _ in selection.refused}
+    for path, why in configs.get("refused", []):
+        shown = str(_shown(path, paths))
+        if shown not in known:  # (the same plan asked twice: --fix plans again)
+            known.add(shown)
+            selection.refused.append((shown, why))
     return targets, given
 
 
@@ -434,7 +443,7 @@ def _launched(file: Path, memo: dict) -> list[tuple[dict[str, str], str]]:
     root = package_root(file)
     found = memo.setdefault("launch", {})
     if root not in found:
-        found[root] = launch_arguments(root)
+        found[root] = launch_arguments(root, memo.setdefault("refused", []))
     try:
         rel = file.resolve().relative_to(root).as_posix()
     except ValueError:
@@ -482,7 +491,8 @@ def classify(targets: list[Target], reports: list[FileReport],
     for i, report in enumerate(reports):
         if roles[i] == "entry" and (targets[i].configured or resolved[i] not in read_by_entry):
             shown.append(i)
-            _name_missing_arguments(report, targets[i])
+            _name_missing_arguments(report, targets[i],
+                                    bool(selection is not None and selection.refused))
             continue
         if resolved[i] in configured_files:
             continue  # the same file with other arguments: configured, it is an entry
@@ -649,7 +659,7 @@ def _from_includer(diagnostic) -> bool:
 _MISSING_ARG = re.compile(r"\$\(arg ([A-Za-z_]\w*)\) is used but the argument is not defined")
 
 
-def _name_missing_arguments(report: FileReport, target: Target) -> None:
+def _name_missing_arguments(report: FileReport, target: Target, refused: bool = False) -> None:
     """An entry stopped by an argument it never declares, that no launch file of its package
     passes and the configuration does not give: one warning naming the argument and how to
     give it (not a defect of the robot: the gate was not told how the entry is expanded). An
@@ -662,6 +672,7 @@ def _name_missing_arguments(report: FileReport, target: Target) -> None:
         if any(_declares(text, name) for text in report.texts.values()):
             continue
         how = (f"{target.args_from} does not pass it" if target.args_from else
+               "no launch file urdftool read passes it (some were not read)" if refused else
                "no launch file of its package passes it")
         file = Path(target.path).as_posix()
         report.diagnostics[index] = d._replace(

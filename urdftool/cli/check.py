@@ -382,6 +382,9 @@ def _fix_many(paths, options, unsafe):
     texts: dict[str, str] = {}
     fixed, remaining = 0, []
     for shown in report.files:
+        if shown.role == "refused":  # not read (a launch file over its size limit): no fix
+            remaining.append(shown)
+            continue
         target = by_path.get((str(Path(shown.path).resolve()), tuple(shown.args.items())))
         these = copy.copy(options)
         these.load = overlay_options(target_options(options, target), texts)

@@ -27,7 +27,7 @@ from urdftool.check import CheckOptions, check_model, run_report
 from urdftool.config import Config, load_config
 from urdftool.errors import ToolError
 from urdftool.loader import run_roots
-from urdftool.package import Target, package_root, plan
+from urdftool.package import Selection, Target, package_root, plan
 from urdftool.report import Diagnostic, FileReport
 from urdftool.source import ROBOT_SUFFIXES, LoadOptions
 
@@ -117,7 +117,8 @@ class Settings:
 class Unit:
     """One package (or loose directory, or lone file) and the last check of each target."""
 
-    __slots__ = ("config", "error", "planned", "reports", "robots", "root", "stale", "targets")
+    __slots__ = ("config", "error", "planned", "refused", "reports", "robots", "root", "stale",
+                 "targets")
 
     def __init__(self, root: Path):
         self.root = root
@@ -128,6 +129,7 @@ class Unit:
         self.reports: list[FileReport | None] = []
         self.robots: list = []
         self.stale: set[int] = set()
+        self.refused: list[tuple[str, str]] = []  # what planning refused unread (Selection)
 
 
 class Result(NamedTuple):
@@ -267,9 +269,12 @@ class Engine:
         unit.planned = True
         try:
             unit.config = load_config(unit.root)
-            unit.targets = plan([str(unit.root)])[0]
+            selection = Selection()
+            unit.targets = plan([str(unit.root)], selection=selection)[0]
+            unit.refused = selection.refused  # launch files over their size limit (issue 21)
         except ToolError as exc:
             unit.config, unit.targets, unit.error = Config(), [], str(exc)
+            unit.refused = []
         unit.reports = [None] * len(unit.targets)
         unit.robots = [None] * len(unit.targets)
         unit.stale = set(range(len(unit.targets)))
@@ -363,7 +368,10 @@ class Engine:
                 report.args
             reports.append(copied)
         targets = [t for t, r in zip(unit.targets, unit.reports) if r is not None]
-        report = run_report(targets, reports)  # check DIR's own last steps
+        refused = Selection()  # what the plan refused unread (its roles line is check's)
+        refused.refused = unit.refused
+        report = run_report(targets, reports, None, refused,  # check DIR's own last steps
+                            self.check_options(unit))
         if unit.config.baseline is not None:  # as the CLI applies the configured one
             from urdftool.baseline import apply_baseline
 
