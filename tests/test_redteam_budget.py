@@ -66,6 +66,19 @@ def _cases(base: Path) -> dict[str, tuple[Path, list[str]]]:
         f"m{i}: &m{i} {{<<: [*m{i - 1}, *m0], x{i}: 1}}" for i in range(1, 400)]
     add("yaml-merge-chain", HEAD + '<link name="${len(str(xacro.load_yaml(\'d.yaml\')))}"/>\n'
         + ARM + "</robot>\n", data={"d.yaml": "\n".join(merges) + "\n"})
+    # the expanded document's size and names (xacro_expand.MAX_DOCUMENT, MAX_NAME): a 64 KB
+    # text doubled by 10 levels of macros is 64 MB, a 4 MB file included 10 times 40 MB
+    doubling = "".join(f'<xacro:macro name="m{i}"><xacro:m{i - 1}/><xacro:m{i - 1}/></xacro:macro>\n'
+                       for i in range(1, 11))
+    expanding = ["check", "expand", "tree"]
+    add("document-doubling", HEAD + '<xacro:macro name="m0"><gazebo>' + "x" * 65536
+        + "</gazebo></xacro:macro>\n" + doubling + ARM + "<xacro:m10/>\n</robot>\n",
+        commands=expanding)
+    add("include-repeated", HEAD + '<xacro:include filename="part.xacro"/>\n' * 10 + ARM
+        + "</robot>\n", commands=expanding, data={"part.xacro": HEAD + "<!-- " + "y" * (4 << 20)
+                                                 + " -->\n</robot>\n"})
+    add("long-element-name", HEAD + ARM + '<xacro:element xacro:name="${\'g\' * 100000}"/>\n'
+        "</robot>\n", commands=expanding)
     return package, cases
 
 
@@ -148,7 +161,9 @@ def test_every_reading_command_holds(plan_cases, ci, tmp_path):
     assert entries_run["code"] == 1
     assert 18 <= entries_run["out"].count("not checked: the run's time budget is spent") <= 19, \
         entries_run["out"][-2000:]
-    # refused in bytes: the property referenced 18 times and the terabyte count
-    for name in ("property-references", "count-terabyte"):
+    # refused in bytes: the property referenced 18 times, the terabyte count, the document's
+    # size and its names
+    for name in ("property-references", "count-terabyte", "document-doubling",
+                 "include-repeated", "long-element-name"):
         run = by_name[f"{name}: check"]
         assert run["code"] == 1 and "xacro.limit-exceeded" in run["out"], run["out"][-500:]

@@ -100,6 +100,49 @@ def _parse_loc(value: str, files: _Files) -> Loc:
 
 
 MAX_FILE_BYTES = 64 << 20  # a robot description file (or YAML file) larger than this is refused
+# the expanded document, in characters of XML (issue 21): every file parsed (each include, each
+# time) and every copy of a macro body or block xacro makes, counted as it is made; values of
+# expressions are the interpreter's (xacro_eval.MAX_BUDGET). Copies are counted as written,
+# before xacro drops what it drops (comments before a macro call, branches not taken): the
+# largest of 72 real robots (realworld-dev, real-packages, robots/, example-robot-data) is
+# pr2.urdf.xacro, 114 KB expanded and 387 KB counted, 85x below this limit
+MAX_DOCUMENT = 32 << 20
+MAX_NAME = 1024  # characters of an element or attribute name xacro builds (xacro:element/attribute)
+
+
+class _Size:
+    """What an expansion has built so far, in characters of XML (``MAX_DOCUMENT``)."""
+
+    def __init__(self):
+        self.total = 0
+        self.known: dict[int, tuple[object, int]] = {}  # id(node) -> (node, its size)
+
+    def add(self, size: int, what: str) -> None:
+        self.total += size
+        if self.total > MAX_DOCUMENT:
+            from urdftool.xacro_eval import LimitExceeded
+
+            raise LimitExceeded(f"the expanded document grew past {MAX_DOCUMENT >> 20} MB "
+                                f"(limit of urdftool; {what})")
+
+    def of(self, node) -> int:
+        """``node``'s size written out (memoised: a macro body is copied at every call)."""
+        known = self.known.get(id(node))
+        if known is not None and known[0] is node:
+            return known[1]
+        size, stack = 0, [node]
+        while stack:
+            current = stack.pop()
+            if current.nodeType == current.ELEMENT_NODE:
+                size += 2 * len(current.tagName) + 5
+                attrs = current._attrs
+                if attrs:
+                    size += sum(len(k) + len(a.value) + 4 for k, a in attrs.items())
+                stack.extend(current.childNodes)
+            else:
+                size += len(getattr(current, "data", "") or "")
+        self.known[id(node)] = (node, size)
+        return size
 
 
 @dataclass
@@ -135,10 +178,21 @@ WATCHED_CODE = ("/xacro/", "/yaml/", "/xml/dom/", "/urdftool/xacro_eval.py")
 def _mark_blank_only(doc) -> None:
     """Mark the elements whose only children are blank text (a macro-only file's root, a
     ``<link>`` with a newline inside): xacro's writer drops blank text but still writes them
-    ``<x>`` ``</x>``, while its serialisation read back has no child left to tell."""
+    ``<x>`` ``</x>``, while its serialisation read back has no child left to tell. An element
+    or attribute name longer than ``MAX_NAME`` (built by xacro:element/xacro:attribute) is
+    refused (LimitExceeded, at the element)."""
+    from urdftool.xacro_eval import LimitExceeded
+
     stack = [doc.documentElement]
     while stack:
         node = stack.pop()
+        if len(node.tagName) > MAX_NAME or (node._attrs and max(map(len, node._attrs)) > MAX_NAME):
+            longest = max([node.tagName, *(node._attrs or ())], key=len)
+            refused = LimitExceeded(f"an element or attribute name of {len(longest)} characters, "
+                                    f"past urdftool's limit of {MAX_NAME}")
+            if node.getAttribute(LOC_ATTR):
+                refused.urdftool_loc = node.getAttribute(LOC_ATTR)
+            raise refused
         children = node.childNodes
         if children and all(c.nodeType == c.TEXT_NODE and not c.data.strip() for c in children):
             node.setAttribute(BLANK_ATTR, "")
@@ -326,6 +380,14 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
 
     interpreter = Interpreter(policy.deadline, read_yaml)
     node_list = xml.dom.minidom.NodeList
+    size = _Size()
+    clone_node = xml.dom.minidom.Node.cloneNode
+
+    def counted_clone(node, deep):
+        """A macro body or block copied into the document: counted before it is made."""
+        if deep:
+            size.add(size.of(node), "copying a macro body or block again")
+        return clone_node(node, deep)
     saved = (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
              xacro.process_include, xacro.safe_eval, substitution_args._eval,
              substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text,
@@ -377,6 +439,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             text = inp if isinstance(inp, str) else inp.read()
             shown = source.path
         source.texts.setdefault(shown, text)
+        size.add(len(text), f"reading {shown}")
         key = (text, shown, files.index(shown))
         known = _PARSED.get(key)
         if known is not None:
@@ -436,7 +499,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             before = before.previousSibling
         try:
             expanded = saved[1](node, macros, symbols)
-        except xacro.XacroException as exc:
+        except (xacro.XacroException, LimitExceeded) as exc:
             if call and not hasattr(exc, "urdftool_loc"):
                 exc.urdftool_loc = call
             raise
@@ -497,6 +560,10 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
                     + "; nothing included", _parse_loc(elt.getAttribute(LOC_ATTR), files),
                     severity="warning"))
             return result
+        except LimitExceeded as exc:  # (the document's size: at the include that grew it)
+            if not hasattr(exc, "urdftool_loc") and elt.getAttribute(LOC_ATTR):
+                exc.urdftool_loc = elt.getAttribute(LOC_ATTR)
+            raise
         except xacro.XacroException as exc:
             if not hasattr(exc, "urdftool_loc") and elt.getAttribute(LOC_ATTR):
                 exc.urdftool_loc = elt.getAttribute(LOC_ATTR)
@@ -609,6 +676,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     xacro.is_valid_name = functools.lru_cache(maxsize=4096)(more[0])
     xml.dom.minidom.NodeList = _ChildList
     xml.dom.minidom._clone_node = _clone_node
+    xml.dom.minidom.Node.cloneNode = counted_clone
     xacro.get_boolean_value, xacro.get_include_files = get_boolean_value, get_include_files
     try:
         yield xacro
@@ -616,6 +684,7 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
         xacro.is_valid_name, xacro.verbosity = more
         xml.dom.minidom.NodeList = node_list
         xml.dom.minidom._clone_node = _CLONE_NODE
+        xml.dom.minidom.Node.cloneNode = clone_node
         (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
          xacro.process_include, xacro.safe_eval, substitution_args._eval,
          substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text,
@@ -641,6 +710,9 @@ def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Polic
             doc = xacro.process_file(str(path), mappings=dict(options.xacro_args), verbosity=0)
             _mark_blank_only(doc)
             expanded = doc.toxml()
+            if len(expanded) > MAX_DOCUMENT:  # (what expressions made: theirs is a budget too)
+                raise LimitExceeded(f"the expanded document is {len(expanded) >> 20} MB, past "
+                                    f"urdftool's limit of {MAX_DOCUMENT >> 20} MB")
         except _Reported:
             pass
         except Exception as exc:  # noqa: BLE001 - xacro raises plain Python errors too

@@ -438,8 +438,11 @@ source_rule(
     `10**10**10` or a gigantic include make xacro run for ever or exhaust memory; a CI gate must
     not hang on them. urdftool stops the expansion when it takes longer than `--timeout`
     (default 3 s), nests macros deeper than Python's recursion limit, builds numbers or strings
-    beyond a sane size, reads a file over 64 MB, or (with `--untrusted`) uses more memory than
-    `--memory-limit`. Nothing after the stop is checked: fix the recursion or the size.""",
+    beyond a sane size, reads a file over 64 MB, grows the expanded document past 32 MB (macro
+    bodies copied, files included, counted as xacro makes them) or builds an element or
+    attribute name over 1024 characters, or (with `--untrusted`) uses more memory than
+    `--memory-limit`. Nothing after the stop is checked: fix the recursion or the size. It is
+    also the warning at a launch file too large to read for the xacro arguments it passes.""",
     bad='<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
         '  <xacro:macro name="loop"><xacro:loop/></xacro:macro>\n'
         '  <link name="base"/>\n  <xacro:loop/>\n</robot>',
