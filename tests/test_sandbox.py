@@ -166,6 +166,24 @@ attempt("O_NONBLOCK", lambda: (fcntl.fcntl(0, fcntl.F_SETFL, flags | os.O_NONBLO
                                fcntl.fcntl(0, fcntl.F_SETFL, flags)))
 attempt("isatty", lambda: os.isatty(0))
 attempt("read a file", lambda: len(open(os.__file__, "rb").read()))
+# its own interval timer: the trusted watchdog stops xacro's own loops here too (issue 21)
+import signal, time
+from urdftool import budget
+attempt("setitimer", lambda: signal.setitimer(signal.ITIMER_REAL, 0))
+spin = {}
+exec(compile("def spin(end):\n    while time.monotonic() < end:\n        pass\n",
+             "/site-packages/xacro/__init__.py", "exec"), {"time": time}, spin)
+
+def watched():
+    started = time.monotonic()
+    try:
+        with budget.watchdog(0.2, lambda: TimeoutError("late"), ("/xacro/",)):
+            spin["spin"](started + 20)
+    except TimeoutError:
+        return time.monotonic() - started
+    return None
+
+attempt("watchdog", watched)
 '''
 
 
@@ -189,8 +207,10 @@ def test_the_reader_may_only_read(tmp_path):
     for name in ("shmget", "shmat", "msgget", "semget", "ptrace"):
         value, error = outcome[name]
         assert value == -1 and error == 1, (name, outcome[name])  # -1, EPERM
-    for name in ("F_GETFL", "F_SETFD", "O_NONBLOCK", "isatty", "read a file"):
+    for name in ("F_GETFL", "F_SETFD", "O_NONBLOCK", "isatty", "read a file", "setitimer"):
         assert outcome[name][0] == "done", (name, outcome[name])
+    # the watchdog's timer signal interrupts a loop of xacro's at 0.2 s (not at 20 s)
+    assert 0.2 <= float(outcome["watchdog"][1]) < 2.0, outcome["watchdog"]
 
 
 def test_the_payload_door_is_shut_to_the_cli(tmp_path, monkeypatch):

@@ -10,9 +10,12 @@ value, so forked workers share it. Without ``start`` (one-file commands) there i
 budget: each reading has its own ``--timeout``.
 
 ``watchdog(seconds, make_exception)`` stops work that does not count its own steps (xacro
-and PyYAML in this process under ``--trusted``): a timer signal raises ``make_exception()``
-in the main thread at the deadline, then again every ``REPEAT`` seconds until the block
-ends, so that a handler that swallows one exception does not keep it running.
+and PyYAML in this process under ``--trusted``): at the deadline ``make_exception()`` is
+raised in the block, then again every ``REPEAT`` seconds until the block ends, so that a
+handler that swallows one exception does not keep it running. In the main thread a timer
+signal (``setitimer``) raises it; in another thread (the language server checks in a worker
+thread) a timer thread hands it over with ``PyThreadState_SetAsyncExc``, which the thread
+raises at its next call or loop iteration.
 
 This module imports nothing else of urdftool: readers, the interpreter and ``check`` all use
 it.
@@ -109,11 +112,18 @@ def watchdog(seconds: float | None, make_exception, inside: tuple[str, ...] = ()
     import signal
     import threading
 
+    if seconds is None:
+        yield
+        return
+    if threading.current_thread() is not threading.main_thread():
+        with _thread_watchdog(seconds, make_exception, inside):
+            yield
+        return
     try:
         busy = signal.getitimer(signal.ITIMER_REAL)[0] > 0
     except (OSError, AttributeError):  # no interval timers (a seccomp allowlist, not Unix)
         busy = True
-    if seconds is None or busy or threading.current_thread() is not threading.main_thread():
+    if busy:
         yield
         return
     armed = [True]
@@ -142,3 +152,71 @@ def watchdog(seconds: float | None, make_exception, inside: tuple[str, ...] = ()
             signal.setitimer(signal.ITIMER_REAL, 0)
         if previous is not None:
             signal.signal(signal.SIGALRM, previous)
+
+
+_WATCHED: set[int] = set()  # threads (idents) under a thread watchdog: an inner one keeps it
+
+
+@contextlib.contextmanager
+def _thread_watchdog(seconds: float, make_exception, inside: tuple[str, ...]):
+    """``watchdog`` in a thread other than the main one: a timer thread raises an exception
+    of ``make_exception()``'s type and message in this thread (``PyThreadState_SetAsyncExc``,
+    CPython), only while this thread runs ``inside`` code outside an import, then every
+    REPEAT seconds until the block ends. The thread's frame is looked at before and after the
+    exception is handed over: when it has moved out of the watched code in between, the
+    exception is taken back before it is raised. Elsewhere (not CPython) the block runs
+    unwatched."""
+    import ctypes
+    import sys
+    import threading
+
+    target = threading.get_ident()
+    try:
+        api = ctypes.pythonapi  # (PYFUNCTYPE: the calls keep the GIL)
+        hand = ctypes.PYFUNCTYPE(ctypes.c_int, ctypes.c_ulong, ctypes.py_object)(
+            ("PyThreadState_SetAsyncExc", api))
+        take_back = ctypes.PYFUNCTYPE(ctypes.c_int, ctypes.c_ulong, ctypes.c_void_p)(
+            ("PyThreadState_SetAsyncExc", api))
+    except (AttributeError, OSError):
+        hand = None
+    if hand is None or target in _WATCHED:
+        yield
+        return
+    sample = make_exception()
+    base = type(sample)
+    # the exception is raised from its type, without arguments: a subclass that carries them
+    late = type(base.__name__, (base,), {"__init__": lambda self: base.__init__(self, *sample.args),
+                                         "__module__": base.__module__})
+    state = threading.Condition()
+    armed = [True]
+
+    def frame_ok() -> bool:
+        frame = sys._current_frames().get(target)
+        return frame is not None and _interruptible(frame, inside)
+
+    def run() -> None:
+        wait = max(seconds, 0.001)
+        with state:
+            while True:
+                state.wait(wait)
+                if not armed[0]:
+                    return
+                wait = REPEAT
+                if frame_ok():
+                    hand(target, late)
+                    if not frame_ok():  # moved on (an import?) before it was raised
+                        take_back(target, None)
+
+    timer = threading.Thread(target=run, name="urdftool-watchdog", daemon=True)
+    _WATCHED.add(target)
+    timer.start()
+    try:
+        yield
+    finally:
+        armed[0] = False  # first (no call before it): the timer hands nothing more over
+        try:
+            with state:
+                take_back(target, None)  # handed over, not raised yet: never after the block
+                state.notify_all()
+        finally:
+            _WATCHED.discard(target)

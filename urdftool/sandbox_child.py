@@ -43,9 +43,10 @@ ALLOWED_SYSCALLS = (
     # threads and their synchronisation (clone: threads only, see _seccomp)
     "futex", "futex_waitv", "set_robust_list", "get_robust_list", "set_tid_address", "rseq",
     "sched_yield", "sched_getaffinity", "sched_getparam", "sched_getscheduler", "getcpu",
-    # signals to itself (kill/tgkill: its own pid only, see _seccomp)
+    # signals to itself (kill/tgkill: its own pid only, see _seccomp); its own interval timer
+    # (SIGALRM to itself: budget.watchdog stops xacro's and PyYAML's own loops at the deadline)
     "rt_sigaction", "rt_sigprocmask", "rt_sigreturn", "sigaltstack", "rt_sigpending",
-    "rt_sigtimedwait", "rt_sigsuspend",
+    "rt_sigtimedwait", "rt_sigsuspend", "setitimer", "getitimer", "alarm",
     # clocks, identity, randomness, limits read
     "clock_gettime", "clock_getres", "clock_nanosleep", "nanosleep", "gettimeofday", "time",
     "getpid", "gettid", "getppid", "getuid", "geteuid", "getgid", "getegid", "getresuid",
