@@ -1,6 +1,6 @@
 """Issue 21: small hostile files that attacked the work *around* the reader (scans of file
 content in the parent, the run's budget, the trusted interpreter's accounting), through every
-reading command, trusted and ``CI=true``, with ``--timeout 1``: each run finishes under
+reading command (``convert`` for SDF), trusted and ``CI=true``, with ``--timeout 1``: each run finishes under
 2 x --timeout plus start-up (STARTUP), the runs' peak memory stays under 1 GB, a report under 1 MB for
 an input under 1 MB, no traceback, exit 0, 1 or 2.
 
@@ -79,7 +79,50 @@ def _cases(base: Path) -> dict[str, tuple[Path, list[str]]]:
                                                  + " -->\n</robot>\n"})
     add("long-element-name", HEAD + ARM + '<xacro:element xacro:name="${\'g\' * 100000}"/>\n'
         "</robot>\n", commands=expanding)
+    _sdf_cases(add, package)
     return package, cases
+
+
+SDF = '<?xml version="1.0"?>\n<sdf version="1.7">\n'
+SDF_LINK = ('<link name="{name}"><inertial><mass>1</mass><inertia><ixx>1</ixx><iyy>1</iyy>'
+            "<izz>1</izz></inertia></inertial></link>")
+SDF_COMMANDS = ["convert", "check", "tree"]
+
+
+def _sdf_cases(add, package: Path) -> None:
+    """SDFormat through ``convert`` (and check, tree): models nested deeply, includes that
+    double at each level and a long chain of them, a huge attribute, many models (each a
+    free body: a floating joint and a warning; the URDF stays under 1 MB, the warnings are
+    capped as check's)."""
+    link = SDF_LINK.format(name="base")
+    add("sdf-nested-models", SDF + "".join(f'<model name="m{i}">' for i in range(3000)) + link
+        + "</model>" * 3000 + "\n</sdf>\n", suffix=".sdf", commands=SDF_COMMANDS)
+    add("sdf-huge-attribute", SDF + f'<model name="m">{SDF_LINK.format(name="b" * 900_000)}'
+        "</model>\n</sdf>\n", suffix=".sdf", commands=SDF_COMMANDS)
+    add("sdf-many-models", SDF + '<model name="top">' + link + "".join(
+        f'<model name="m{i}">{SDF_LINK.format(name="l")}</model>' for i in range(2000))
+        + "</model>\n</sdf>\n", suffix=".sdf", commands=SDF_COMMANDS)
+    # each level includes the next twice (2^40 models unbounded), and a chain of 400 levels
+    add("sdf-include-doubling", SDF + '<model name="top">' + link
+        + "<include><uri>d1</uri><name>a</name></include>"
+        "<include><uri>d1</uri><name>b</name></include></model>\n</sdf>\n", suffix=".sdf",
+        commands=SDF_COMMANDS)
+    directory = package / "sdf-include-doubling"
+    for i in range(1, 41):
+        (directory / f"d{i}").mkdir()
+        inner = ("<include><uri>../d{0}</uri><name>a</name></include><include><uri>../d{0}"
+                 "</uri><name>b</name></include>").format(i + 1) if i < 40 else ""
+        (directory / f"d{i}" / "model.sdf").write_text(
+            SDF + f'<model name="d{i}">{SDF_LINK.format(name="l")}{inner}</model>\n</sdf>\n')
+    add("sdf-include-chain", SDF + '<model name="top">' + link
+        + "<include><uri>c1</uri><name>c</name></include></model>\n</sdf>\n", suffix=".sdf",
+        commands=SDF_COMMANDS)
+    directory = package / "sdf-include-chain"
+    for i in range(1, 401):
+        (directory / f"c{i}").mkdir()
+        inner = f"<include><uri>../c{i + 1}</uri><name>c</name></include>" if i < 400 else ""
+        (directory / f"c{i}" / "model.sdf").write_text(
+            SDF + f'<model name="c{i}">{SDF_LINK.format(name="l")}{inner}</model>\n</sdf>\n')
 
 
 def _launch_package(base: Path) -> Path:
@@ -167,3 +210,8 @@ def test_every_reading_command_holds(plan_cases, ci, tmp_path):
                  "include-repeated", "long-element-name"):
         run = by_name[f"{name}: check"]
         assert run["code"] == 1 and "xacro.limit-exceeded" in run["out"], run["out"][-500:]
+    # SDF includes: one finding for the count limit, one for the depth limit (not one each)
+    for name, limit in (("sdf-include-doubling", "passed urdftool's limit of 1000 files"),
+                        ("sdf-include-chain", "includes nested more than 20 deep")):
+        run = by_name[f"{name}: check"]
+        assert run["code"] == 1 and run["out"].count(limit) == 1, run["out"][-1000:]

@@ -105,23 +105,55 @@ def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, 
 
         source.root.insert(0, etree.Comment(header))
         urdf = to_text(source.root)
+    # output proportional to findings (issue 21), as check's: at most LISTED_PER_RULE findings
+    # of one rule in one file on stderr, MACHINE_PER_RULE in JSON, the rest counted
+    from urdftool.display import clip
+    from urdftool.report import LISTED_PER_RULE, MACHINE_PER_RULE
+
+    listed, omitted = _capped(problems, MACHINE_PER_RULE if fmt == "json" else LISTED_PER_RULE,
+                              str(path))
     if fmt == "json":
-        print_json({
+        data = {
             "path": str(path), "urdf": urdf, "refused": refused,
-            "diagnostics": [{"rule": r, "severity": s, "message": f.message if f else refused,
+            "diagnostics": [{"rule": r, "severity": s,
+                             "message": clip(f.message) if f else refused,
                              "path": f.loc.path if f and f.loc else str(path),
                              "line": f.loc.line if f and f.loc else None,
                              "column": f.loc.column if f and f.loc else None,
-                             "hint": f.hint if f else None} for r, s, f in problems]})
+                             "hint": clip(f.hint) if f else None} for r, s, f in listed]}
+        if omitted:
+            data["omitted"] = omitted
+        print_json(data)
     else:
-        for rule_id, severity, finding in problems:
+        for rule_id, severity, finding in listed:
             loc = finding.loc if finding is not None else None
             print_finding(loc.path if loc else path, loc.line if loc else None,
                           loc.column if loc else None, severity, rule_id,
                           finding.message if finding is not None else refused,
                           finding.hint if finding is not None else None, err=True)
+        if omitted:
+            click.echo(f"{sum(omitted.values())} more finding(s) not listed (at most "
+                       f"{LISTED_PER_RULE} per rule and file; --format json lists more): "
+                       + ", ".join(f"{rule} {count}" for rule, count in omitted.items()),
+                       err=True)
         if urdf is not None:
             if output in (None, "-"):  # a CI log: no line a runner executes, same XML
                 urdf = xml_guard(urdf)
             write_output(urdf, output, inputs=[str(path), *source.texts], offer_in_place=False)
     ctx.exit(1 if errors or urdf is None else 0)
+
+
+def _capped(problems: list, per_rule: int, path: str) -> tuple[list, dict[str, int]]:
+    """(the problems listed, rule -> how many more of it are not): at most ``per_rule`` of one
+    rule in one file."""
+    counts: dict[tuple[str, str], int] = {}
+    listed, omitted = [], {}
+    for problem in problems:
+        rule_id, _, finding = problem
+        key = (rule_id, finding.loc.path if finding is not None and finding.loc else path)
+        counts[key] = counts.get(key, 0) + 1
+        if counts[key] > per_rule:
+            omitted[rule_id] = omitted.get(rule_id, 0) + 1
+        else:
+            listed.append(problem)
+    return listed, omitted

@@ -677,6 +677,10 @@ class Builder:
         else:
             main = canonical if canonical is not None else roots[0].key
         main_name = self.link_name(main)
+        hanging: dict[str, int] = {}  # root -> links joined to it (once: many roots, issue 21)
+        for k, r in self.root_of.items():
+            if k != r:
+                hanging[r] = hanging.get(r, 0) + 1
         for entity in roots:
             if entity.key == main:
                 continue
@@ -689,7 +693,7 @@ class Builder:
             self.sub(joint, "parent", entity.element, link=main_name)
             self.sub(joint, "child", entity.element, link=name)
             if kind == "floating":
-                hung = sum(1 for k, r in self.root_of.items() if r == entity.key and k != r)
+                hung = hanging.get(entity.key, 0)
                 also = f" (nor are the {hung} link(s) joined to it)" if hung else ""
                 self.report("sdf.disconnected-link",
                             f"link '{entity.key}' is joined by no joint to '{main_name}' or "

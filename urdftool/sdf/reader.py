@@ -29,6 +29,9 @@ NEWEST = (1, 11)
 RESOURCE_ENV = ("GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH", "GAZEBO_MODEL_PATH",
                 "SDF_PATH")
 MAX_INCLUDE_DEPTH = 20
+# include files read for one input (issue 21: includes that double at each level are 2^20
+# reads within the depth limit); a world of a few hundred models is far below it
+MAX_INCLUDES = 1000
 _VERSION_RE = re.compile(r"^\s*(\d+)\.(\d+)\s*$")
 
 
@@ -124,6 +127,8 @@ class Reader:
         self._element_doc: dict[int, Doc] = {}  # id(root) -> doc
         self._locs: dict = {}  # SDF element -> its Loc, shared by the URDF elements made from it
         self._include_stack: list[Path] = []
+        self._includes = 0  # include files read (MAX_INCLUDES)
+        self._too_deep = False  # an include past MAX_INCLUDE_DEPTH was reported
         # issue 22.3, one finding per cause: the models whose include could not be read (their
         # keys: what joints, frames and plugins name them by) and each unresolved URI's one
         # finding (problem index, how many more includes of it)
@@ -521,11 +526,26 @@ class Reader:
             self.report("sdf.include", f"include '{uri}': its model.config names a file "
                         "outside the repository; urdftool does not read it", include)
             return None
-        if file.resolve() in self._include_stack or len(self._include_stack) >= MAX_INCLUDE_DEPTH:
+        if file.resolve() in self._include_stack:
             self.report("sdf.include", f"include '{uri}' includes itself (through {file})", include)
+            return None
+        if len(self._include_stack) >= MAX_INCLUDE_DEPTH:
+            if not self._too_deep:  # one finding: the others as deep are left out too
+                self._too_deep = True
+                self.report("sdf.include", f"include '{uri}' not read: includes nested more "
+                            f"than {MAX_INCLUDE_DEPTH} deep (urdftool's limit); this one and the "
+                            "others as deep are left out", include)
             return None
         from urdftool.source import parse_text, read_text, shown_path
 
+        self._includes += 1
+        if self._includes > MAX_INCLUDES:
+            if self._includes == MAX_INCLUDES + 1:  # one finding: the later ones are left out
+                self.report("sdf.include", f"include '{uri}' not read: the file's includes "
+                            f"passed urdftool's limit of {MAX_INCLUDES} files (includes that "
+                            "include each other several times?); this one and the later ones "
+                            "are left out", include)
+            return None
         try:
             text = read_text(file)
         except ToolError as exc:  # unreadable
