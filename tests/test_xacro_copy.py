@@ -56,6 +56,7 @@ def test_copy_makes_what_clone_node_makes():
 
 def test_a_file_parsed_once_gives_the_same_expansion_and_findings(tmp_path, monkeypatch):
     monkeypatch.setattr(xacro_expand, "_PARSED", {})
+    monkeypatch.setattr(xacro_expand, "_SEEN", set())
     (tmp_path / "parts.xacro").write_text(
         '<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
         '  <xacro:macro name="part" params="n"><link name="${n}"/></xacro:macro>\n'
@@ -76,7 +77,7 @@ def test_a_file_parsed_once_gives_the_same_expansion_and_findings(tmp_path, monk
         runs.append((etree.tostring(source.root),
                      sorted((rule, f.message, f.loc.path, f.loc.line)
                             for rule, f in source.problems)))
-    assert len(xacro_expand._PARSED) == 2  # the entry and the include, kept
+    assert len(xacro_expand._PARSED) == 2  # the entry and the include, kept once read again
     assert runs[0] == runs[1] == runs[2]
     assert b'<link name="a"' in runs[0][0] and b'<link name="b"' in runs[0][0]
     assert any(rule == "xacro.unsafe-expression" and line == 3

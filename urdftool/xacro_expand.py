@@ -343,9 +343,10 @@ def _copy_document(template):
 
 
 # (text, shown path, file index) -> (minidom document, unsafe expressions) of a file read
-# without a problem: kept across expansions (the language server expands on every edit; a
-# package's entries include the same files), never handed out, copied for each expansion
+# without a problem a second time: kept across expansions (the language server expands on every
+# edit; a package's entries include the same files), never handed out, copied for each one
 _PARSED: dict[tuple[str, str, int], tuple[object, list]] = {}
+_SEEN: set[tuple[str, str, int]] = set()  # read once without a problem
 MAX_PARSED = 64
 
 
@@ -478,11 +479,15 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
                  for node in root.itersiblings()]
         document = xml.dom.minidom.parseString(_utf8_bytes(
             "".join(around) + etree.tostring(root, encoding="unicode") + "".join(after)))
-        if clean:  # read without a problem: kept, a copy given
+        if clean and key in _SEEN:  # read again without a problem: kept, a copy given
             if len(_PARSED) >= MAX_PARSED:
                 del _PARSED[next(iter(_PARSED))]
             _PARSED[key] = (document, unsafe)
             return _copy_document(document)
+        if clean:  # the first time: no copy (most files of a run are read once)
+            if len(_SEEN) >= 4 * MAX_PARSED:
+                _SEEN.clear()
+            _SEEN.add(key)
         return document
 
     def handle_macro_call(node, macros, symbols):
