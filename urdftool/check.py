@@ -628,19 +628,39 @@ def _check_in_workers(files: list, options: CheckOptions, jobs: int,
     a parser, the OOM killer) breaks the pool: the files it left unchecked are then checked one
     process each, so that only the file that kills its process is reported (ToolError)."""
     import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-    from concurrent.futures.process import BrokenProcessPool
 
     context = multiprocessing.get_context("fork")
     files = [f if isinstance(f, Target) else Target(str(f)) for f in files]
+    gc.freeze()  # what the workers inherit is never collected there (nor its pages copied)
+    try:
+        results = _pooled(files, options, jobs, context, progress)
+    finally:
+        gc.unfreeze()
+    for index, path in enumerate(files):
+        if results[index] is None:
+            results[index] = _check_alone(path, options, context)
+    reports = []
+    for ok, value in results:  # type: ignore[misc]
+        if not ok:
+            raise value  # type: ignore[misc]
+        reports.append(value)
+    return reports
+
+
+def _pooled(files: list, options: CheckOptions, jobs: int, context, progress) -> list:
+    """The results of ``files`` from ``jobs`` forked workers; None for the files of a run
+    whose worker died."""
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
+
     results: list[tuple[bool, object] | None] = [None] * len(files)
-    runs = _runs([f.path for f in files], jobs)
     done = 0
     with ProcessPoolExecutor(jobs, mp_context=context) as pool:
         # the costliest runs first: a worker that is free takes the next, and the last runs
         # to be handed out are short, so the workers finish together
         futures = {pool.submit(_worker_chunk, files[start:end], options): (start, end)
-                   for start, end, _ in sorted(runs, key=lambda run: -run[2])}
+                   for start, end, _ in sorted(_runs([f.path for f in files], jobs),
+                                               key=lambda run: -run[2])}
         for future in as_completed(futures):
             start, end = futures[future]
             try:
@@ -651,15 +671,7 @@ def _check_in_workers(files: list, options: CheckOptions, jobs: int,
             done += end - start
             if progress is not None:
                 progress(done, len(files))
-    for index, path in enumerate(files):
-        if results[index] is None:
-            results[index] = _check_alone(path, options, context)
-    reports = []
-    for ok, value in results:  # type: ignore[misc]
-        if not ok:
-            raise value  # type: ignore[misc]
-        reports.append(value)
-    return reports
+    return results
 
 
 def _check_alone(path, options: CheckOptions, context) -> tuple[bool, object]:
