@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -40,6 +42,14 @@ from tests.conftest import SMALL, example_robot_urdfs, pybullet_data_dir
 
 def corpus() -> list[str]:
     return [str(p) for p in sorted(pybullet_data_dir().rglob("*.urdf")) + example_robot_urdfs()]
+
+
+CPU: dict[str, list[float]] = {}  # label -> CPU seconds (user + system) of each run
+
+
+def _children_cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
 
 
 def loop(command: list[str], files: list[str], env: dict) -> float:
@@ -60,13 +70,14 @@ def once(command: list[str], env: dict) -> float:
 
 
 def medians(series: list[tuple[str, object]], runs: int) -> dict[str, float]:
-    """Median of each timed callable, called in turn ``runs`` times (interleaved)."""
-    import statistics
-
+    """Median of each timed callable, called in turn ``runs`` times (interleaved), and
+    (``CPU``) the CPU time of each of its runs."""
     times: dict[str, list[float]] = {label: [] for label, _ in series}
     for _ in range(runs):
         for label, run in series:
+            cpu = _children_cpu()
             times[label].append(run())
+            CPU.setdefault(label, []).append(_children_cpu() - cpu)
     return {label: statistics.median(values) for label, values in times.items()}
 
 
@@ -114,12 +125,18 @@ def main() -> None:
     loop_time = median["check_urdf loop"]
     print(f"corpus: {len(files)} files (pybullet_data incl. random_urdfs + example-robot-data),"
           f" median of {args.runs} interleaved runs")
-    print(f"  check_urdf, one process per file       {loop_time:7.2f} s")
+    cpu = {label: statistics.median(values) for label, values in CPU.items()}
+    print(f"  check_urdf, one process per file       {loop_time:7.2f} s   "
+          f"(CPU {cpu['check_urdf loop']:.2f} s)")
     for jobs in ("", " --jobs 1"):
         this, base = median[f"this tree{jobs}"], median[f"baseline{jobs}"]
         print(f"  urdftool{jobs or ' (default jobs)':<14} this tree {this:6.2f} s   "
               f"{args.baseline} {base:6.2f} s   this/check_urdf {this / loop_time:.2f}x "
-              f"(target < 1)   this/{args.baseline} {this / base:.2f}x (target <= 1)")
+              f"(target < 1)   this/{args.baseline} {this / base:.2f}x (target <= 1)   "
+              f"CPU this {cpu[f'this tree{jobs}']:.2f} s, {args.baseline} "
+              f"{cpu[f'baseline{jobs}']:.2f} s")
+    print(f"  load average at the end: {os.getloadavg()[0]:.1f} (wall ratios mean little above"
+          " ~1 on two CPUs: the CPU columns are the load-independent ones)")
     for robot_name, (this, base) in startup.items():
         print(f"  start-up, {robot_name:<12} this tree {this * 1000:6.1f} ms   {args.baseline} "
               f"{base * 1000:6.1f} ms   ratio {this / base:.2f}x (target <= 1)")
