@@ -114,6 +114,7 @@ def main() -> None:
                     series.append((f"{name}{' --jobs 1' if jobs else ''}",
                                    lambda env=env, jobs=jobs: once(command + jobs + files, env)))
             median = medians(series, args.runs)
+            cpu = {label: statistics.median(CPU[label]) for label, _ in series}
             startup = {}
             for robot_name, robot in (("plain URDF", small), ("xacro robot", xacro_robot)):
                 found = medians([(name, lambda env=env, robot=robot: once(command + [str(robot)], env))
@@ -125,7 +126,6 @@ def main() -> None:
     loop_time = median["check_urdf loop"]
     print(f"corpus: {len(files)} files (pybullet_data incl. random_urdfs + example-robot-data),"
           f" median of {args.runs} interleaved runs")
-    cpu = {label: statistics.median(values) for label, values in CPU.items()}
     print(f"  check_urdf, one process per file       {loop_time:7.2f} s   "
           f"(CPU {cpu['check_urdf loop']:.2f} s)")
     for jobs in ("", " --jobs 1"):
