@@ -174,3 +174,32 @@ def test_runs_cover_the_files_in_order_with_about_equal_cost(tmp_path):
     assert all(share <= cost < share + largest for _, _, cost in runs[:-1])
     # the large files are not all in one run (a count-based cut put them together)
     assert len({start for start, end, _ in runs for i in range(start, end) if i >= 300}) >= 3
+
+
+def test_a_large_run_starts_its_workers_without_the_whole_probe(tmp_path, monkeypatch):
+    """The default --jobs forks its workers once the rest is surely worth them (after
+    PROBE_SURE seconds, not the whole PROBE): checking here before the fork is time on one
+    CPU. Files made slow (each check_file sleeps) show the decision, not the machine."""
+    import time
+
+    for index in range(40):
+        (tmp_path / f"r{index:02d}.urdf").write_text(GOOD)
+    real = check.check_file
+    monkeypatch.setattr(check, "check_file",
+                        lambda *a, **k: (time.sleep(0.03), real(*a, **k))[1])
+    forked = []
+    monkeypatch.setattr(check, "_check_in_workers",
+                        lambda files, options, jobs, progress=None: forked.append(
+                            (len(files), jobs)) or [real(f.path, options, f) for f in files])
+    monkeypatch.setattr(check, "available_cpus", lambda: 2)
+    monkeypatch.setattr(check, "default_jobs", lambda paths, *a: 2)
+    monkeypatch.setattr(check, "PROBE", 10.0)  # the whole probe would check every file here
+    monkeypatch.setattr(check, "WORK_PER_WORKER", 0.1)
+    report = check.check_paths([str(tmp_path)])
+    assert len(report.files) == 40
+    # 40 x 30 ms = 1.2 s of work, twice 2 x 0.1 s after 2-3 files: forked early, to 2 workers
+    assert len(forked) == 1 and forked[0][1] == 2 and forked[0][0] >= 35
+    forked.clear()
+    monkeypatch.setattr(check, "WORK_PER_WORKER", 1.0)  # the rest not surely worth it: probe
+    check.check_paths([str(tmp_path)])
+    assert forked == []

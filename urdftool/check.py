@@ -548,6 +548,8 @@ def _check_targets(files: list, todo: list[int], options: CheckOptions, progress
 
 
 PROBE = 0.25  # seconds of checking in this process before deciding on workers
+# ... unless after this long the rest, extrapolated, is already twice what the workers need
+PROBE_SURE = 0.05
 
 
 def _check_measured(targets: list, options: CheckOptions, jobs: int, progress) -> list:
@@ -555,7 +557,8 @@ def _check_measured(targets: list, options: CheckOptions, jobs: int, progress) -
     ``jobs`` workers if their time, extrapolated, gives each ``WORK_PER_WORKER`` seconds (a
     cold mesh cache: seconds of mesh parsing a file), else here too (a warm corpus: a pool
     was slower than this process, which already holds the run's memos; forked workers
-    inherit them)."""
+    inherit them). The workers start after ``PROBE_SURE`` seconds when the rest is already
+    twice that (a large corpus: the probe is time on one CPU while the others wait)."""
     import time
 
     start = time.perf_counter()
@@ -567,9 +570,10 @@ def _check_measured(targets: list, options: CheckOptions, jobs: int, progress) -
             progress(len(checked), total)
         elapsed = time.perf_counter() - start
         left = total - len(checked)
-        if elapsed > PROBE and left > 1:
-            workers = min(jobs, left, int(elapsed / len(checked) * left / WORK_PER_WORKER))
-            if workers > 1:
+        if elapsed > min(PROBE, PROBE_SURE) and left > 1:
+            rest = elapsed / len(checked) * left
+            workers = min(jobs, left, int(rest / WORK_PER_WORKER))
+            if workers > 1 and (elapsed > PROBE or rest >= 2 * jobs * WORK_PER_WORKER):
                 done = len(checked)
                 shifted = None if progress is None else \
                     (lambda finished, _, done=done: progress(done + finished, total))
