@@ -272,24 +272,34 @@ FAILED: list[str] = []  # files whose reading was refused in part (load_robot): 
 def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | None = None):
     """Load one file into a Robot for the commands that work on a model (not ``check``).
     A file too broken to give a robot is an error (exit 2) located at the first problem."""
+    from urdftool import budget
     from urdftool.check import REFUSING_RULES
     from urdftool.display import diagnostic_line
     from urdftool.loader import load
     from urdftool.model import build_robot
 
     options = load_options(packages, xacro_args or {})
-    source = load(path, options)
-    robot = build_robot(source)
-    if source.root is None or not robot.links or any(  # read it as check does: through
-            rule.startswith("xml.") for rule, _ in source.problems):  # its safe fixes
-        fixed = _through_safe_fixes(path, options)
-        if fixed is not None:
-            source, robot, count = fixed
-            if source.root is not None and source.root.tag == "robot" and robot.links:
-                from urdftool.display import clean  # (a refusal below stays one line)
+    # one run budget for the readings (issue 21): the first, the safe-fix rounds and the last
+    # share --timeout for the file plus one for the start, as check's run does
+    own = budget.remaining() is None
+    if own:
+        budget.start(options.timeout, 1)
+    try:
+        source = load(path, options)
+        robot = build_robot(source)
+        if source.root is None or not robot.links or any(  # read it as check does: through
+                rule.startswith("xml.") for rule, _ in source.problems):  # its safe fixes
+            fixed = _through_safe_fixes(path, options)
+            if fixed is not None:
+                source, robot, count = fixed
+                if source.root is not None and source.root.tag == "robot" and robot.links:
+                    from urdftool.display import clean  # (a refusal below stays one line)
 
-                echo(f"urdftool: {clean(path)}: read through {count} safe fix(es), as check "
-                     f"reads it ('urdftool check {clean(path)}' lists them)", err=True)
+                    echo(f"urdftool: {clean(path)}: read through {count} safe fix(es), as "
+                         f"check reads it ('urdftool check {clean(path)}' lists them)", err=True)
+    finally:
+        if own:
+            budget.stop()
     # a refused expression or an exceeded limit: said, located, and the run fails (exit 1);
     # the robot is still shown with the expression's placeholder value where it can be built
     refusals = [finding for rule, finding in source.problems if rule in REFUSING_RULES]
