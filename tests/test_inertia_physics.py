@@ -209,3 +209,27 @@ def test_mesh_extent_numpy_and_python_paths_give_the_same_floats(monkeypatch):
                             extent.max_sq_distances(origin, axes),
                             phys.hull_escape(origin, [extent])))
         assert answers[0] == answers[1]
+
+
+def test_gjk_inside_shortcut_gives_what_the_full_search_gives(monkeypatch):
+    """``_hull_offset`` ends as soon as its tetrahedron strictly holds the point: the same
+    answer as the full search over the tetrahedron's faces, for points inside, outside and
+    near the surface of random hulls of every size (1e-6 m to 100 m)."""
+    import random
+
+    from urdftool.physics import inertia as phys
+
+    rng = random.Random(11)
+    cases = []
+    for _ in range(300):
+        size = 10 ** rng.uniform(-6, 2)
+        points = [tuple(rng.gauss(0, size) for _ in range(3)) for _ in range(rng.randint(4, 30))]
+        extent = phys.PointsExtent(points)
+        scale = rng.choice([0.1, 0.9, 1.0, 1.1, 3.0])
+        point = tuple(scale * rng.gauss(0, size) for _ in range(3))
+        cases.append((point, [extent]))
+    fast = [phys.hull_escape(point, extents) for point, extents in cases]
+    monkeypatch.setattr(phys, "_strictly_inside", lambda points: False)
+    full = [phys.hull_escape(point, extents) for point, extents in cases]
+    assert fast == full
+    assert sum(1 for d, _ in fast if d == 0) > 50 and sum(1 for d, _ in fast if d > 0) > 50

@@ -482,6 +482,18 @@ def _closest_on_simplex(points: list[Vec3]) -> tuple[Vec3, list[Vec3]]:
     return best[0], [points[i] for i in best[1]]
 
 
+def _strictly_inside(points: list[Vec3]) -> bool:
+    """Whether the origin lies inside the tetrahedron of four points, away from its faces (each
+    barycentric weight above 1e-9): there ``_closest_on_simplex`` finds the whole tetrahedron
+    closest (every face is farther than the rounding of the inside point), so GJK ends."""
+    bx, by, bz = points[0]
+    edges = [(p[0] - bx, p[1] - by, p[2] - bz) for p in points[1:]]
+    gram = [[a[0] * b[0] + a[1] * b[1] + a[2] * b[2] for b in edges] for a in edges]
+    rhs = [-(e[0] * bx + e[1] * by + e[2] * bz) for e in edges]
+    weights = _solve(gram, rhs)
+    return weights is not None and all(w > 1e-9 for w in weights) and sum(weights) < 1 - 1e-9
+
+
 def _solve(a: list[list[float]], b: list[float]) -> list[float] | None:
     """Gaussian elimination with partial pivoting; None when (nearly) singular."""
     n = len(b)
@@ -536,6 +548,8 @@ def _hull_offset(point: Vec3, extents: list[Extent], tolerance: float = 1e-9) ->
         if any(dot(d, d) <= 1e-24 for d in (sub(w, s) for s in simplex)):
             break
         simplex.append(w)
+        if len(simplex) == 4 and _strictly_inside(simplex):
+            return ZERO3  # what the search over its faces below ends in, without the search
         v, simplex = _closest_on_simplex(simplex)
         if len(simplex) == 4:
             return ZERO3
