@@ -1,7 +1,9 @@
 """Runs a red-team plan in one process (``python redteam_batch.py PLAN RESULTS``): each run is
 ``urdftool ARGS`` in-process (as ``conftest.run_urdftool``), with ``CI=true`` or ``--trusted``,
-its output captured, its wall time measured. The process's peak memory (its own and its
-sandboxed readers') bounds every run's. A run that hangs leaves its name in RESULTS.started.
+its output captured, its wall time measured, and the part of it spent waiting for a CPU
+that other processes held (``waited``: the tests bound the wall time less that). The
+process's peak memory (its own and its sandboxed readers') bounds every run's. A run that
+hangs leaves its name in RESULTS.started.
 """
 
 from __future__ import annotations
@@ -34,6 +36,41 @@ def run(args: list[str], ci: bool) -> tuple[int, str, str]:
     return code, out.getvalue(), err.getvalue()
 
 
+def _tasks(pid: int) -> list[str]:
+    """The threads of ``pid`` and of all its descendants, as /proc/PID/task/TID paths."""
+    found, todo = [], [pid]
+    while todo:
+        current = todo.pop()
+        try:
+            threads = os.listdir(f"/proc/{current}/task")
+        except OSError:  # ended meanwhile
+            continue
+        for tid in threads:
+            found.append(f"/proc/{current}/task/{tid}")
+            try:
+                with open(f"/proc/{current}/task/{tid}/children", encoding="ascii") as stream:
+                    todo.extend(int(child) for child in stream.read().split())
+            except OSError:
+                pass
+    return found
+
+
+def waited() -> dict[str, float]:
+    """Per thread of this process and its live descendants (the sandboxed reader, sim
+    workers): seconds spent ready to run while the CPUs ran another process (the run queue,
+    /proc/.../schedstat). On a machine shared with other work this is the part of a run's
+    wall time that the load, not urdftool, took; a run blocked on a read (a FIFO) is asleep,
+    not waiting, and keeps its time."""
+    times = {}
+    for task in _tasks(os.getpid()):
+        try:
+            with open(f"{task}/schedstat", encoding="ascii") as stream:
+                times[task] = int(stream.read().split()[1]) / 1e9
+        except (OSError, IndexError, ValueError):
+            pass
+    return times
+
+
 def main() -> None:
     plan_path, results_path = sys.argv[1], sys.argv[2]
     # a run that reads without bound fails here (MemoryError: a finding of the test) rather
@@ -46,10 +83,17 @@ def main() -> None:
         with open(results_path + ".started", "w", encoding="utf-8") as stream:
             stream.write(entry["name"])
         os.chdir(entry["cwd"])
+        before = waited()
         started = time.monotonic()
         code, out, err = run(entry["args"], entry["ci"])
-        results.append({**entry, "code": code, "out": out, "err": err,
-                        "seconds": time.monotonic() - started})
+        seconds = time.monotonic() - started
+        after = waited()
+        # the longest wait of one thread: threads waiting side by side (check's worker
+        # processes) are not added up, and a process that ended during the run counts nothing
+        queued = max((value - before.get(task, 0.0) for task, value in after.items()),
+                     default=0.0)
+        results.append({**entry, "code": code, "out": out, "err": err, "seconds": seconds,
+                        "waited": min(max(queued, 0.0), seconds)})
     sandbox = sys.modules.get("urdftool.sandbox")
     if sandbox is not None:
         sandbox._close_children()  # waited for: its peak is in RUSAGE_CHILDREN
