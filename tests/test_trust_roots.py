@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 from conftest import run_urdftool
 
-from urdftool.roots import OutsideRepository, Roots, clamp, repository_of
+from urdftool.roots import OutsideRepository, Roots, clamp, has_vcs_component, repository_of
 
 SECRET = "hunter2"
 HEAD = '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
@@ -373,3 +373,22 @@ def test_memoised_realpath_is_realpath(tmp_path):
 
     same()
     forget_resolved()
+
+
+def test_readable_on_text_is_pathlibs_answer():
+    """``Roots.readable_resolved`` compares text: the same answer as pathlib's
+    ``is_relative_to`` and ``has_vcs_component`` for roots that are prefixes of each other
+    as text (``/r`` and ``/ra``), the file-system root, roots inside metadata, and targets in
+    and out of ``.git``/``.hg``/``.svn`` (or names that merely contain them)."""
+    import random
+
+    rng = random.Random(3)
+    parts = ["tmp", "r", "ra", "a", ".git", "ab", ".hg", "a.git", ".svnx", ".svn"]
+    choices = ["/", "/tmp/r", "/tmp/r/a", "/tmp/ra", "/tmp/r/.git"]
+    for _ in range(5000):
+        chosen = rng.sample(choices, rng.randint(1, 3))
+        roots = Roots([], chosen)
+        target = Path("/" + "/".join(rng.choice(parts) for _ in range(rng.randint(0, 5))))
+        expected = any(target.is_relative_to(root) and not has_vcs_component(target, root)
+                       for root in roots.all())
+        assert roots.readable_resolved(target) == expected, (chosen, target)
