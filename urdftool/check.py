@@ -458,7 +458,7 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
     try:
         # one budget for the run: --timeout for each distinct file found (a file listed many
         # times in the configuration's entries shares its own)
-        budget.start(options.load.timeout, len({os.path.realpath(f.path) for f in files}), started)
+        budget.start(options.load.timeout, len({real(f.path) for f in files}), started)
         todo, reports, waiting = unaffected(files, given, options.load)  # changed files:
         checked = _check_targets(files, todo, options, progress)  # what reads them
         for i, report in zip(todo, checked):
