@@ -386,3 +386,29 @@ def test_sdf_model_uri_is_reported_once(write):
     assert [rule for rule, _ in found] == ["sdf.mesh-uri", "sdf.mesh-uri"], found
     assert "'model://no_such_model_q/a.stl' (and 2 more meshes like it)" in found[0][1]
     assert "'model://other_model_q/a.stl' is not found" in found[1][1]
+
+
+def test_a_missing_numbered_mesh_is_never_fixed_to_another_number(tmp_path):
+    """mesh.not-found's safe fix renames a slip (``wrsit3.stl`` -> ``wrist3.stl``), never a
+    numbered part to another (``wrist1.stl`` missing beside ``wrist3.stl``: wrist_1 would get
+    wrist_3's mesh: real UR checkouts whose large meshes are not pulled)."""
+    (tmp_path / "meshes").mkdir()
+    (tmp_path / "meshes" / "wrist3.stl").write_text("solid x\nendsolid x\n")
+    robot = tmp_path / "arm.urdf"
+    robot.write_text(
+        '<robot name="arm"><link name="base"/>\n'
+        '  <link name="wrist_1"><visual><geometry><mesh filename="meshes/wrist1.stl"/>'
+        '</geometry></visual></link>\n'
+        '  <link name="wrist_3"><visual><geometry><mesh filename="meshes/wrsit3.stl"/>'
+        '</geometry></visual></link>\n'
+        '  <joint name="j1" type="fixed"><parent link="base"/><child link="wrist_1"/></joint>\n'
+        '  <joint name="j3" type="fixed"><parent link="wrist_1"/><child link="wrist_3"/>'
+        '</joint></robot>\n')
+    result = run_urdftool("check", "--format", "json", "--jobs", "1", str(robot))
+    found = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+             if d["rule"] == "mesh.not-found"]
+    assert sorted(d["line"] for d in found) == [2, 3]
+    by_line = {d["line"]: d for d in found}
+    assert "fix" not in by_line[2] or not by_line[2]["fix"], by_line[2]
+    assert "wrist3" not in (by_line[2].get("hint") or "")
+    assert [e["text"] for e in by_line[3]["fix"]["edits"]] == ["wrist3.stl"]

@@ -100,14 +100,19 @@ def did_you_mean(name: str, candidates) -> str | None:
     """The one candidate ``name`` is a slip of: the single nearest by edit distance (a letter
     dropped, added, changed or two swapped count one: rapidfuzz's OSA distance), at most two
     edits (one per eight letters in a longer name) and one per three letters; None when none is
-    that near or two are equally near (``joint7`` among ``joint1``..``joint6``)."""
+    that near or two are equally near (``joint7`` among ``joint1``..``joint6``). A name whose
+    numbers differ is another part, never a slip (``wrist1.dae`` is not ``wrist3.dae``, even
+    when it is the only file there: a fix would give one link another's mesh)."""
+    import re
+
     from rapidfuzz.distance import OSA  # only on error paths: keeps start-up lean
 
     limit = min(max(2, len(name) // 8), (len(name) + 1) // 3)
     best: list[str] = []
     nearest = limit + 1
+    numbers = re.findall(r"\d+", name)
     for candidate in dict.fromkeys(candidates):
-        if not candidate or candidate == name:
+        if not candidate or candidate == name or re.findall(r"\d+", candidate) != numbers:
             continue
         distance = OSA.distance(name, candidate, score_cutoff=nearest)
         if distance < nearest:
