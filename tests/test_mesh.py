@@ -412,3 +412,29 @@ def test_a_missing_numbered_mesh_is_never_fixed_to_another_number(tmp_path):
     assert "fix" not in by_line[2] or not by_line[2]["fix"], by_line[2]
     assert "wrist3" not in (by_line[2].get("hint") or "")
     assert [e["text"] for e in by_line[3]["fix"]["edits"]] == ["wrist3.stl"]
+
+
+def test_macro_instances_missing_different_files_are_different_findings(tmp_path):
+    """One macro line, four instances: two miss the same file (one finding, two instances),
+    two miss other files (a finding each, naming its file). Grouping masks names and
+    numbers, not the file: another missing file is another cause."""
+    (tmp_path / "meshes").mkdir()
+    robot = tmp_path / "arm.urdf.xacro"
+    parts = [("wrist_1", "wrist1.stl"), ("wrist_2", "wrist2.stl"), ("wrist_2b", "wrist2.stl"),
+             ("wrist_3", "wrist3.stl")]
+    robot.write_text(
+        '<?xml version="1.0"?>\n<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="part" params="name mesh parent">\n'
+        '    <link name="${name}"><visual><geometry><mesh filename="meshes/${mesh}"/>'
+        '</geometry></visual></link>\n'
+        '    <joint name="j_${name}" type="fixed"><parent link="${parent}"/>'
+        '<child link="${name}"/></joint>\n'
+        '  </xacro:macro>\n  <link name="base"/>\n'
+        + "".join(f'  <xacro:part name="{n}" mesh="{m}" parent="base"/>\n' for n, m in parts)
+        + "</robot>\n")
+    result = run_urdftool("check", "--format", "json", "--jobs", "1", str(robot))
+    found = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+             if d["rule"] == "mesh.not-found"]
+    named = {next(m for m in ("wrist1", "wrist2", "wrist3") if m in d["message"]):
+             len(d["call_sites"]) for d in found}
+    assert len(found) == 3 and named == {"wrist1": 1, "wrist2": 2, "wrist3": 1}, found

@@ -7,6 +7,7 @@ content in human output goes through ``urdftool.display`` (escaped, one location
 
 
 import json
+import re
 from typing import NamedTuple
 
 from urdftool import __version__
@@ -71,10 +72,18 @@ def _chain(chain, joint: str = ", called from ") -> str:
 
 def _shape(message: str) -> str:
     """A message with its numbers and quoted names masked: the same finding in two macro
-    instances (other names, other values) has the same shape."""
-    import re
+    instances (other names, other values) has the same shape. A quoted file name or path is
+    kept: another file is another cause (two instances missing ``wrist1.dae`` and
+    ``wrist2.dae`` are two findings, each naming its file)."""
 
-    return re.sub(r"'[^']*'|\"[^\"]*\"|[-+]?\d[\d.eE+-]*", "#", message)
+    def mask(match: re.Match) -> str:
+        text = match.group()
+        return text if text[0] in "'\"" and _FILE_NAME.search(text) else "#"
+
+    return re.sub(r"'[^']*'|\"[^\"]*\"|[-+]?\d[\d.eE+-]*", mask, message)
+
+
+_FILE_NAME = re.compile(r"/|\.[A-Za-z][A-Za-z0-9]{0,4}['\"]$")
 
 
 def group_instances(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
