@@ -177,3 +177,25 @@ def test_refused_launch_files_reach_the_language_server_engine(tmp_path):
                    if path.endswith("launch") for d in found)
     assert f"{MAX_FILES + 1} launch files, more than the {MAX_FILES}" in message
     assert "1 not read, from launch/extra63.launch on" in message
+
+
+def test_the_command_lines_arguments_replace_the_launch_files_choices(tmp_path, monkeypatch):
+    """``check DIR model:=blackfly`` where the launch file offers three models: one expansion,
+    reported with the argument it was expanded with (not three, labelled with the launch
+    file's choices while every one used blackfly)."""
+    launch = PYTHON_LAUNCH.replace(  # a required argument: one expansion per choice
+        "default_value='{model}', description='camera model'",
+        "description='camera model', choices=['a', 'b', 'blackfly']")
+    root = _package(tmp_path, "display.launch.py",
+                    launch.format(model="a", marker=str(tmp_path / "marker")))
+    monkeypatch.chdir(tmp_path)
+    plain = json.loads(run_urdftool("check", "--format", "json", "--jobs", "1", root.name).out)
+    assert sorted(f["args"].get("model") for f in plain["files"]
+                  if f["path"].endswith("display.urdf.xacro")) == ["a", "b", "blackfly"]
+    result = run_urdftool("check", "--format", "json", "--jobs", "1", root.name,
+                          "model:=blackfly")
+    entries = [f for f in json.loads(result.out)["files"]
+               if f["path"].endswith("display.urdf.xacro")]
+    assert [e["args"] for e in entries] == [{"model": "blackfly"}]
+    assert ("blackfly.urdf.xacro", "joint.lower-above-upper") in {
+        (Path(d["path"]).name, d["rule"]) for d in entries[0]["diagnostics"]}

@@ -34,6 +34,7 @@ from urdftool.package import (
     settle,
     store_reads,
     unaffected,
+    with_operator_args,
 )
 from urdftool.report import (
     Diagnostic,
@@ -444,6 +445,7 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
     options.load.roots = run_roots(paths, options.load)
     selection = options.selection if options.selection is not None else Selection()
     files, given = plan(paths, options.changed, selection, options.config_file)
+    files = with_operator_args(files, options.load.xacro_args)
     if not files and given is not None:  # changed files of no package with robot files
         report = Report([], [])
         report.seen = set()

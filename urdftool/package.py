@@ -355,6 +355,22 @@ def _config_of(path: Path, memo: dict):
     return configs[found[0]]
 
 
+def with_operator_args(targets: list[Target], args: dict[str, str]) -> list[Target]:
+    """``targets`` with the operator's ``NAME:=VALUE`` arguments in place of their own (the
+    command line wins over a configuration's entries and a launch file's choices); argument
+    sets that became the same are checked once (``ur_type:=ur10`` on a file the launch file
+    expands for nine ``ur_type`` choices is one expansion, reported with ``ur10``)."""
+    if not args:
+        return targets
+    kept: dict[tuple, Target] = {}
+    for target in targets:
+        merged = target._replace(args={**target.args, **args}) if target.args else target
+        key = (merged.path, tuple(sorted(merged.args.items())),
+               tuple(sorted(merged.packages.items())))
+        kept.setdefault(key, merged)
+    return list(kept.values())
+
+
 def plan(paths: list[str], changed: bool = False, selection: Selection | None = None,
          config_file: Path | None = None) -> tuple[list[Target], set[str] | None]:
     """The targets of a run, and in changed-files mode the given files (resolved). Files

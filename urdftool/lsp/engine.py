@@ -27,7 +27,7 @@ from urdftool.check import CheckOptions, check_model, run_report
 from urdftool.config import Config, load_config
 from urdftool.errors import ToolError
 from urdftool.loader import run_roots
-from urdftool.package import Selection, Target, package_root, plan
+from urdftool.package import Selection, Target, package_root, plan, with_operator_args
 from urdftool.report import Diagnostic, FileReport
 from urdftool.source import ROBOT_SUFFIXES, LoadOptions
 
@@ -270,7 +270,8 @@ class Engine:
         try:
             unit.config = load_config(unit.root)
             selection = Selection()
-            unit.targets = plan([str(unit.root)], selection=selection)[0]
+            unit.targets = with_operator_args(plan([str(unit.root)], selection=selection)[0],
+                                              dict(self.settings.args))
             unit.refused = selection.refused  # launch files over their size limit (issue 21)
         except ToolError as exc:
             unit.config, unit.targets, unit.error = Config(), [], str(exc)
