@@ -413,8 +413,8 @@ def format_sarif(report: Report | None, rules: dict | None = None,
         "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
         "version": "2.1.0",
         "runs": [{"tool": {"driver": {
-                      "name": "urdftool", "version": __version__,
-                      "informationUri": "https://pypi.org/project/urdftool/",
+                      "name": "urdftool", "version": __version__,  # no informationUri: the
+                      # project has no public page (it is on no package index)
                       "rules": [_sarif_rule(r, (rules or {}).get(r)) for r in rule_ids]}},
                   "invocations": [invocation],
                   "results": results}],
