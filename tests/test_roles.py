@@ -339,3 +339,27 @@ def test_a_file_only_a_pattern_names_keeps_its_robot_rules(repo):
     _, report, err = check(".")
     assert ("urdf/b.xacro", "structure.missing-link") in findings(report)
     assert "2 entries, 1 fragment" in roles(err)
+
+
+def test_a_placeholder_named_by_an_arguments_default_is_a_fragment_of_a_failed_includer(
+        tmp_path):
+    """husky's ``<xacro:arg name="urdf_extras" default="$(optenv HUSKY_URDF_EXTRAS
+    empty.urdf)"/>`` + ``<xacro:include filename="$(arg urdf_extras)"/>``: the include names
+    empty.urdf (the argument's default), so when the includer stops on a missing package,
+    the empty placeholder is not judged as a robot (no false no-links/no-name errors)."""
+    package = tmp_path / "r_description"
+    (package / "urdf").mkdir(parents=True)
+    (package / "package.xml").write_text("<package><name>r_description</name></package>")
+    (package / "urdf" / "empty.urdf").write_text("<robot>\n  <!-- placeholder -->\n</robot>\n")
+    (package / "urdf" / "robot.urdf.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot name="r" xmlns:xacro="http://ros.org/wiki/xacro">\n'
+        '  <xacro:arg name="urdf_extras" default="$(optenv R_URDF_EXTRAS empty.urdf)"/>\n'
+        '  <link name="base_link"/>\n'
+        '  <xacro:include filename="$(find some_missing_pkg)/urdf/x.urdf.xacro"/>\n'
+        '  <xacro:include filename="$(arg urdf_extras)"/>\n</robot>\n')
+    code, report, err = check(str(package))
+    assert code == 1
+    found = [(Path(d["path"]).name, d["rule"]) for f in report["files"]
+             for d in f["diagnostics"] if d["severity"] == "error"]
+    assert found == [("robot.urdf.xacro", "xacro.error")], found
+    assert "1 entry, 1 fragment" in err

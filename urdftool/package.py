@@ -736,11 +736,31 @@ def static_includes(reports: list[FileReport],
             if resolved in seen:
                 continue
             seen.add(resolved)
-            for spec in re.findall(_INCLUDE, without_comments(text, keep_unclosed=False)):
+            text = without_comments(text, keep_unclosed=False)
+            defaults = _arg_defaults(text)
+            for spec in re.findall(_INCLUDE, text):
+                spec = _ARG.sub(lambda m, d=defaults: d.get(m.group(1), m.group()), spec)
                 targets, pattern = _include_candidates(spec, Path(resolved).parent, by_name)
                 for target in targets:
                     (wildcard if pattern else exact).setdefault(target, set()).add(resolved)
     return exact, wildcard
+
+
+_ARG = re.compile(r"\$\(arg\s+([^)\s$]+)\s*\)")
+_ARG_TAG = re.compile(r"<xacro:arg\s[^<>]*>")
+_ATTRIBUTE = re.compile(r"""\b(name|default)\s*=\s*(?:"([^"]*)"|'([^']*)')""")
+
+
+def _arg_defaults(text: str) -> dict[str, str]:
+    """The defaults of a file's ``<xacro:arg>`` declarations without other arguments in
+    them: ``$(arg extras)`` in an include line names the file its default names (husky's
+    ``$(optenv HUSKY_URDF_EXTRAS empty.urdf)``), as xacro reads it when nothing is passed."""
+    defaults = {}
+    for tag in _ARG_TAG.findall(text):
+        found = {key: a if a else b for key, a, b in _ATTRIBUTE.findall(tag)}
+        if "name" in found and "default" in found and "$(arg" not in found["default"]:
+            defaults.setdefault(found["name"], found["default"])
+    return defaults
 
 
 _SUBSTITUTION = re.compile(r"\$\{[^}$]*\}|\$\((?:arg|env|eval)\s[^)$]*\)")
