@@ -309,3 +309,33 @@ def test_untrusted_run_writes_no_cache_unless_a_directory_is_named(monkeypatch, 
     monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path / "named"))
     check_json(*UNTRUSTED, robot)
     assert len(entries()) == 1 and entries()[0].is_relative_to(tmp_path / "named")
+
+
+def test_a_mesh_changed_between_runs_of_one_process_is_read_again(tmp_path, monkeypatch):
+    """The language server runs many checks in one process: a mesh exported again between
+    two of them is read again (the summaries a process keeps are dropped when the file's size
+    or time changed), so the bound follows the new geometry."""
+    import json
+
+    import trimesh
+
+    from tests.conftest import run_urdftool
+
+    monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path / "cache"))
+    mesh = tmp_path / "part.stl"
+    robot = tmp_path / "r.urdf"
+    robot.write_text(
+        '<robot name="r"><link name="base"><inertial><mass value="1"/>'
+        '<inertia ixx="0.05" ixy="0" ixz="0" iyy="0.05" iyz="0" izz="0.05"/></inertial>'
+        '<collision><geometry><mesh filename="part.stl"/></geometry></collision></link>'
+        '</robot>\n')
+
+    def bound_findings() -> list[str]:
+        out = run_urdftool("check", "--format", "json", "--jobs", "1", str(robot)).out
+        return [d["rule"] for f in json.loads(out)["files"] for d in f["diagnostics"]
+                if d["rule"] == "inertia.exceeds-geometry"]
+
+    trimesh.creation.box(extents=(0.1, 0.1, 0.1)).export(mesh)
+    assert bound_findings() == ["inertia.exceeds-geometry"]  # 0.05 kg m^2 in a 10 cm cube
+    trimesh.creation.box(extents=(1.0, 1.0, 1.0)).export(mesh)
+    assert bound_findings() == []  # the same process, the new 1 m cube: possible

@@ -60,7 +60,9 @@ def run_roots(paths, options: LoadOptions | None = None, environ=None) -> Roots:
     """The roots of a run over ``paths`` (the files and directories the operator gave),
     memoised per process. ``options.packages`` must be the operator's (-P), not a
     configuration's: call this before the configuration is merged (``check.check_paths``)."""
-    forget_resolved()  # a run starts: realpaths are asked again
+    forget_resolved()  # a run starts: realpaths are asked again, changed meshes read again
+    if "urdftool.physics.meshes" in sys.modules:  # (a run that read no mesh never imports it)
+        sys.modules["urdftool.physics.meshes"].forget_changed()
     environ = os.environ if environ is None else environ
     operator = operator_paths(options, environ)
     key = (tuple(os.path.abspath(os.fspath(p)) for p in paths), tuple(operator))

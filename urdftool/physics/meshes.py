@@ -11,6 +11,7 @@ are also kept between runs in the persistent cache (``urdftool.cache``), so that
 from __future__ import annotations
 
 import math
+import os
 import re
 import sys
 import warnings
@@ -65,6 +66,7 @@ def timed_out(info) -> bool:
     error = info.error or ""
     return error.startswith(TRANSIENT) and TIMED_OUT in error
 _CACHE: dict[str, MeshInfo] = {}
+_STAMPS: dict[str, tuple[int, int] | None] = {}  # (size, mtime) of each file in _CACHE, when read
 _TRIMESH: bool | None = None  # trimesh_available(), found once
 
 
@@ -112,8 +114,26 @@ class MeshInfo:
 def clear_cache() -> None:
     global LOADS
     _CACHE.clear()
+    _STAMPS.clear()
     _COLUMNS.clear()
     LOADS = 0
+
+
+def _stamp(path: str) -> tuple[int, int] | None:
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return st.st_size, st.st_mtime_ns
+
+
+def forget_changed() -> None:
+    """Forget the summaries of files changed since they were read (a run starts: a mesh
+    exported again while the language server runs is read again)."""
+    for key, stamp in list(_STAMPS.items()):
+        if _stamp(key) != stamp:
+            _CACHE.pop(key, None)
+            del _STAMPS[key]
 
 
 def trimesh_available() -> bool:
@@ -166,6 +186,7 @@ def load_mesh(path: Path | str, need_volume: bool = False) -> MeshInfo:
     key = resolved(path)
     info = _CACHE.get(key)
     if info is None or (need_volume and not info.has_volume and info.ok):
+        _STAMPS[key] = _stamp(key)
         info = _CACHE[key] = _stored_or_load(Path(key), need_volume)
     return info
 
