@@ -350,3 +350,26 @@ def test_derived_tensor_is_written_in_the_inertial_frame_as_rotated(write):
     assert values["iyy"] == pytest.approx(across, rel=1e-5)
     assert values["izz"] == pytest.approx(along, rel=1e-5)
     assert values["ixy"] == values["ixz"] == values["iyz"] == 0
+
+
+def test_fixing_one_named_file_plans_it_as_check_does(tmp_path, monkeypatch):
+    """``check --fix -o`` / ``--diff`` on one named file give the verdict ``check`` gives on it:
+    a macro-only file is a fragment (no false structure.no-links, exit 0, as plain check)."""
+    package = tmp_path / "cam_description"
+    (package / "urdf").mkdir(parents=True)
+    (package / "package.xml").write_text("<package><name>cam_description</name></package>")
+    macros = package / "urdf" / "camera.xacro"
+    macros.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="camera" params="parent">\n'
+        '    <link name="lens"><inertial><mass value="0.1"/>\n'
+        '      <inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial>\n'
+        '      <collision><geometry><box size="0.03 0.03 0.03"/></geometry></collision></link>\n'
+        '  </xacro:macro>\n</robot>\n')
+    monkeypatch.chdir(tmp_path)
+    plain = run_urdftool("check", str(macros))
+    fixed = run_urdftool("check", "--fix", "-o", str(tmp_path / "out.xacro"), str(macros))
+    diff = run_urdftool("check", "--diff", str(macros))
+    assert plain.code == 0, plain.out + plain.err
+    assert fixed.code == 0 and "structure.no-links" not in fixed.out + fixed.err, fixed
+    assert diff.code == 0 and "nothing to change" in diff.err, diff

@@ -301,7 +301,7 @@ def _fix(paths, options, output, in_place, unsafe, diff, targets=()):
     (None for a --diff that changes something)."""
     from urdftool.display import clean
     from urdftool.errors import ToolError
-    from urdftool.fix import encoded, fix_file, unified_diff
+    from urdftool.fix import encoded, unified_diff
     from urdftool.output import check_target, write_output
 
     single = len(paths) == 1 and not Path(paths[0]).is_dir() and not options.changed
@@ -313,10 +313,9 @@ def _fix(paths, options, output, in_place, unsafe, diff, targets=()):
     if not (diff or output or in_place):
         raise ToolError("--fix writes the fixed files: add --in-place (or -o OUT for one "
                         "file, or use --diff to see the changes)")
-    if not single:
-        result = _fix_many(paths, options, unsafe)
-    else:
-        result = fix_file(paths[0], options, unsafe)
+    # planned as check plans (one verdict): a named file's launch-file arguments and
+    # configured entries, a fragment fixed without the rules that need its includer
+    result = _fix_many(paths, options, unsafe)
     changed = result.changed()
     remaining = len(_remaining(result).diagnostics())
     summary = f"{result.fixed} fixed, {remaining} remaining"
