@@ -313,3 +313,32 @@ def test_sdf_input_is_converted_and_simulated():
     assert any("cannot resolve include 'model://wheel'" in note for note in model["notes"])
     sink = next(c for c in model["checks"] if c["check"] == "sim.sink")
     assert sink["status"] == "fail"
+
+
+def test_a_package_directory_simulates_its_entries_with_their_arguments(tmp_path):
+    """``sim DIR`` drops into the simulator what ``check DIR`` calls entries, expanded with
+    the arguments check uses (here a launch file's ``model:=``): a macro file and an included
+    part are fragments, no robots (they failed 'the robot has no links' before)."""
+    package = tmp_path / "cam_description"
+    (package / "urdf").mkdir(parents=True)
+    (package / "launch").mkdir()
+    (package / "package.xml").write_text("<package><name>cam_description</name></package>")
+    (package / "urdf" / "cam.urdf.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot name="cam" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="$(find cam_description)/urdf/$(arg model).xacro"/>\n'
+        '  <xacro:body/>\n</robot>\n')
+    (package / "urdf" / "box.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="body"><link name="base"><inertial><mass value="1"/>\n'
+        '    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>\n'
+        '    <collision><geometry><box size="0.2 0.2 0.2"/></geometry></collision>\n'
+        '    <visual><geometry><box size="0.2 0.2 0.2"/></geometry></visual></link>\n'
+        '  </xacro:macro>\n</robot>\n')
+    (package / "launch" / "view.launch").write_text(
+        '<launch><arg name="model" default="box"/><param name="robot_description" '
+        'command="$(find xacro)/xacro $(find cam_description)/urdf/cam.urdf.xacro '
+        'model:=$(arg model)"/></launch>\n')
+    result = run_urdftool("sim", "--trusted", "--format", "json", str(package))
+    models = json.loads(result.out)["models"]
+    assert [os.path.basename(m["path"]) for m in models] == ["cam.urdf.xacro"], models
+    assert models[0]["verdict"] == "pass" and result.code == 0, models

@@ -36,6 +36,14 @@ def _init_worker() -> None:
         import pybullet_data  # noqa: F401
 
 
+def _with_args(options: SimOptions, args: dict[str, str]) -> SimOptions:
+    """``options`` expanding with an entry's arguments (the operator's ``NAME:=VALUE`` win)."""
+    import dataclasses
+
+    return dataclasses.replace(options, xacro_args={**args, **options.xacro_args}) \
+        if args else options
+
+
 def _work(path: str, options: SimOptions, from_directory: bool,
           picture: str | None) -> ModelResult:
     from urdftool.sim.engine import run_model
@@ -90,17 +98,42 @@ def _context():
     return multiprocessing.get_context("fork" if "fork" in methods else "spawn")
 
 
-def model_files(paths: list[str]) -> list[tuple[str, bool]]:
-    """(file, found in a directory) for every robot file under ``paths``, found like ``check``
-    does; in a directory, xacro files that another one includes are left out."""
+def model_files(paths: list[str], options: SimOptions | None = None,
+                ) -> list[tuple[str, bool, dict[str, str]]]:
+    """(file, found in a directory, its xacro arguments) for every model under ``paths``. A
+    file named is simulated as it is; in a directory, the entries ``check DIR`` finds, each
+    with the arguments it expands them with (a launch file's, a configuration's): its
+    fragments (macro files, included parts) are no robots to drop into a simulator."""
     from urdftool.source import discover
 
-    files: list[tuple[str, bool]] = []
+    files: list[tuple[str, bool, dict[str, str]]] = []
     for raw in paths:
-        files.extend((str(f), Path(raw).is_dir()) for f in discover([raw]))
+        if Path(raw).is_dir():
+            files.extend((path, True, args) for path, args in _entries(raw, options))
+        else:
+            files.extend((str(f), False, {}) for f in discover([raw]))
     if not files:
         raise ToolError("no robot files (*.urdf, *.xacro, *.sdf) found in " + ", ".join(paths))
     return files
+
+
+def _entries(directory: str, options: SimOptions | None) -> list[tuple[str, dict[str, str]]]:
+    """The entries of ``check DIRECTORY`` (with the operator's options of this run) and their
+    xacro arguments."""
+    from urdftool.check import CheckOptions, check_paths
+    from urdftool.errors import NothingToCheck
+    from urdftool.source import LoadOptions
+
+    options = options or SimOptions()
+    load = LoadOptions(dict(options.packages), dict(options.xacro_args),
+                       allow_env=options.allow_env, timeout=options.timeout,
+                       memory_mb=options.memory_mb)
+    load.untrusted = options.untrusted
+    try:
+        report = check_paths([directory], CheckOptions(load=load))
+    except NothingToCheck:
+        return []
+    return [(f.path, dict(f.args)) for f in report.files if f.role == "entry"]
 
 
 def _crashed(path: str, code: str) -> ModelResult:
@@ -112,21 +145,23 @@ def _crashed(path: str, code: str) -> ModelResult:
 
 
 def run_all(paths: list[str], options: SimOptions, progress=None) -> list[ModelResult]:
-    files = model_files(paths)
+    files = model_files(paths, options)
     require_pybullet()
-    pictures = picture_paths([f for f, _ in files], options.render)
-    _check_pictures(pictures, [f for f, _ in files])
+    pictures = picture_paths([f for f, _, _ in files], options.render)
+    _check_pictures(pictures, [f for f, _, _ in files])
     results: list[ModelResult | None] = [None] * len(files)
     from urdftool.check import default_jobs
 
     steps = options.duration * options.rate / 240  # the default 1 s at 240 Hz is 1
     jobs = max(1, min(options.jobs or default_jobs(
-        [f for f, _ in files], SECONDS_PER_MODEL * max(steps, 1), SECONDS_PER_BYTE), len(files)))
+        [f for f, _, _ in files], SECONDS_PER_MODEL * max(steps, 1), SECONDS_PER_BYTE),
+        len(files)))
     context = _context()
     try:
         with ProcessPoolExecutor(jobs, mp_context=context, initializer=_init_worker) as pool:
-            futures = {pool.submit(_work, path, options, from_directory, pictures[index]): index
-                       for index, (path, from_directory) in enumerate(files)}
+            futures = {pool.submit(_work, path, _with_args(options, args), from_directory,
+                                   pictures[index]): index
+                       for index, (path, from_directory, args) in enumerate(files)}
             for done, future in enumerate(as_completed(futures), start=1):
                 if progress is not None:
                     progress(done, len(files))
@@ -138,11 +173,11 @@ def run_all(paths: list[str], options: SimOptions, progress=None) -> list[ModelR
         pass
     for index, result in enumerate(results):  # after a crash: each unfinished model alone
         if result is None:
-            path, from_directory = files[index]
+            path, from_directory, args = files[index]
             with ProcessPoolExecutor(1, mp_context=context, initializer=_init_worker) as pool:
                 try:
-                    results[index] = pool.submit(_work, path, options, from_directory,
-                                                 pictures[index]).result()
+                    results[index] = pool.submit(_work, path, _with_args(options, args),
+                                                 from_directory, pictures[index]).result()
                 except BrokenProcessPool:
                     results[index] = _crashed(path, "the worker process died")
     return [r for r in results if r is not None]
