@@ -106,3 +106,20 @@ def test_baseline_root_is_the_git_repository(tmp_path, monkeypatch):
     assert run_urdftool("check", "--write-baseline", "../ci/baseline.json", ".").code == 0
     records = json.loads((repo / "ci" / "baseline.json").read_text())["findings"]
     assert [r["path"] for r in records] == ["demo_description/urdf/camera.xacro"]
+
+
+def test_a_baseline_keeps_uris_in_messages_and_relativises_paths(tmp_path):
+    """Messages are recorded with the repository's paths made relative; a ``package://`` or
+    ``file://`` URI is text, not a path (it was recorded as ``package:<outside>/name``)."""
+    from urdftool.baseline import _Paths
+
+    root = tmp_path / "repo"
+    (root / "d_description" / "meshes").mkdir(parents=True)
+    paths = _Paths(root)
+    mesh = root / "d_description" / "meshes" / "base.stl"
+    message = (f"link 'base' visual mesh 'package://d_description/meshes/base.stl': "
+               f"no file at {mesh}")
+    assert paths.message(message) == ("link 'base' visual mesh "
+                                      "'package://d_description/meshes/base.stl': no file at "
+                                      "d_description/meshes/base.stl")
+    assert paths.message(f"file://{mesh}") == "d_description/meshes/base.stl"

@@ -32,7 +32,8 @@ FORMAT = 1
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 # a path in a message: absolute (with or without file://), or relative with a directory in it
-_ABSOLUTE = re.compile(r"(?:file://)?(/[^\s'\"(),:;]+)")
+# an absolute path: after file://, or not inside a word, a URI (package://) or another path
+_ABSOLUTE = re.compile(r"(?:file://|(?<![\w:/.~-]))(/[^\s'\"(),:;]+)")
 _RELATIVE = re.compile(r"(?<![\w/.:~-])((?:\.\.?/)*[\w.~-]+(?:/[\w.~-]+)+)")
 
 

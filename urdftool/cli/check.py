@@ -318,7 +318,7 @@ def _fix(paths, options, output, in_place, unsafe, diff, targets=()):
     result = _fix_many(paths, options, unsafe)
     changed = result.changed()
     remaining = len(_remaining(result).diagnostics())
-    summary = f"{result.fixed} fixed, {remaining} remaining"
+    summary = f"{result.fixed} {'would be fixed' if diff else 'fixed'}, {remaining} remaining"
     if diff:
         text = unified_diff(result)
         if text:

@@ -21,8 +21,10 @@ def command(fmt):
     from urdftool import __version__, sandbox
 
     libraries = {name: find_spec(module) is not None for name, module in
-                 (("trimesh", "trimesh"), ("pinocchio", "pinocchio"), ("pybullet", "pybullet"),
-                  ("sympy", "sympy"), ("landlock", "landlock"), ("pyseccomp", "pyseccomp"))}
+                 (("trimesh", "trimesh"), ("scipy", "scipy"), ("pycollada", "collada"),
+                  ("pillow", "PIL"), ("pinocchio", "pinocchio"), ("sympy", "sympy"),
+                  ("pybullet", "pybullet"), ("pygls", "pygls"), ("lsprotocol", "lsprotocol"),
+                  ("landlock", "landlock"), ("pyseccomp", "pyseccomp"))}
     layers = sandbox.layers()
     if fmt == "json":
         click.echo(json.dumps({"version": __version__, "python": sys.version.split()[0],
@@ -31,8 +33,9 @@ def command(fmt):
         return
     click.echo(f"urdftool {__version__}, Python {sys.version.split()[0]}, "
                f"{platform.system()} {platform.release()}")
-    extras = {"trimesh": "mesh", "pinocchio": "kinematics", "sympy": "kinematics",
-              "pybullet": "sim"}
+    extras = {"trimesh": "mesh", "scipy": "mesh", "pycollada": "mesh", "pillow": "mesh",
+              "pinocchio": "kinematics", "sympy": "kinematics", "pybullet": "sim",
+              "pygls": "lsp", "lsprotocol": "lsp"}
     for name, present in libraries.items():
         if present or name not in extras:
             click.echo(f"  {name:<12} {'installed' if present else 'missing'}")

@@ -51,8 +51,9 @@ def _warnings(chain, q, analysis, q_text) -> list[str]:
     for item in analysis:
         if item.near_singular:
             what = "the Jacobian" if item.rows == "full" else "its position rows (vx vy vz)"
+            verb = "loses" if item.rows == "full" else "lose"
             value = item.singular_values[item.generic_rank - 1]
-            warnings.append(f"near a singularity: {what} lose rank (singular value "
+            warnings.append(f"near a singularity: {what} {verb} rank (singular value "
                             f"{item.generic_rank} is {value:.3g}; rank here {item.rank}, "
                             f"elsewhere {item.generic_rank})")
     return warnings

@@ -547,7 +547,8 @@ def exceeds_geometry(robot):
             effect = bodies.tensor_effect(a.link.name, impossible)
             if effect is not None:
                 severity, merged = _merged_verdict(a.link.name, effect)
-        axis = b.axis_name if b.axis_name.startswith("principal") else f"{b.axis_name} axis"
+        axis = b.axis_name.replace("principal", "principal axis") \
+            if b.axis_name.startswith("principal") else f"{b.axis_name} axis"
         severity, convention = _convention(robot, a, severity, "")
         yield Finding(f"link '{a.link.name}': moment {_g(b.moment)} kg·m² about the "
                       f"{axis} through the COM is {b.ratio:.3g}x the most {m:g} kg can have "
