@@ -189,9 +189,13 @@ def test_the_command_lines_arguments_replace_the_launch_files_choices(tmp_path, 
     root = _package(tmp_path, "display.launch.py",
                     launch.format(model="a", marker=str(tmp_path / "marker")))
     monkeypatch.chdir(tmp_path)
-    plain = json.loads(run_urdftool("check", "--format", "json", "--jobs", "1", root.name).out)
+    first = run_urdftool("check", "--format", "json", "--jobs", "1", root.name)
+    plain = json.loads(first.out)
     assert sorted(f["args"].get("model") for f in plain["files"]
                   if f["path"].endswith("display.urdf.xacro")) == ["a", "b", "blackfly"]
+    # said once, the choices listed (not a line per expansion)
+    said = [line for line in first.err.splitlines() if "display.urdf.xacro: expanded" in line]
+    assert len(said) == 1 and "expanded 3 times with model:= a, b, blackfly" in said[0], said
     result = run_urdftool("check", "--format", "json", "--jobs", "1", root.name,
                           "model:=blackfly")
     entries = [f for f in json.loads(result.out)["files"]

@@ -524,10 +524,8 @@ def classify(targets: list[Target], reports: list[FileReport],
         report.diagnostics = [d for d in report.diagnostics
                               if not _needs_robot(d.rule) and not _from_includer(d)]
         shown.append(i)
-    notes = [f"{reports[i].path}: expanded with "
-             f"{' '.join(f'{k}:={v}' for k, v in targets[i].args.items())}, as "
-             f"{targets[i].args_from} passes them (list it in urdftool.toml's entries to choose)"
-             for i in shown if targets[i].args_from and roles[i] == "entry"]
+    notes = _launch_notes([(reports[i].path, targets[i]) for i in shown
+                           if targets[i].args_from and roles[i] == "entry"])
     if selection is not None and selection.walked:
         notes.append(_roles_line(sum(1 for i in shown if roles[i] == "entry"), len(fragments),
                                  selection.skipped))
@@ -714,6 +712,31 @@ def _declares(text: str, name: str) -> bool:
 # include inside a macro nobody calls, a name from an argument or an environment variable).
 # Names built from substitutions are matched as wildcards: `${prefix}_macro.xacro` names every
 # `*_macro.xacro` beside the includer.
+
+
+def _launch_notes(expanded: list[tuple[str, Target]]) -> list[str]:
+    """One note per file and launch file: the arguments it was expanded with, those that
+    differ between its expansions listed once each (the UR description's nine ``ur_type``
+    choices are one line, not nine)."""
+    sets: dict[tuple[str, str], list[dict[str, str]]] = {}
+    for path, target in expanded:
+        sets.setdefault((path, target.args_from), []).append(dict(target.args))
+    notes = []
+    for (path, where), values in sets.items():
+        same = {k: v for k, v in values[0].items() if all(a.get(k) == v for a in values)}
+        text = " ".join(f"{k}:={v}" for k, v in same.items())
+        if len(values) > 1:
+            differ = " ".join(f"{k}:=" for k in values[0] if k not in same)
+            choices = ["/".join(a.get(k, "") for k in values[0] if k not in same)
+                       for a in values]
+            text = (f"{len(values)} times with {text + ' and ' if text else ''}{differ} "
+                    + ", ".join(choices[:6]) + (f" and {len(choices) - 6} more"
+                                                if len(choices) > 6 else ""))
+        else:
+            text = "with " + text
+        notes.append(f"{path}: expanded {text}, as {where} passes them (list it in "
+                     "urdftool.toml's entries to choose)")
+    return notes
 
 
 def static_includes(reports: list[FileReport],
