@@ -72,18 +72,26 @@ def _chain(chain, joint: str = ", called from ") -> str:
 
 def _shape(message: str) -> str:
     """A message with its numbers and quoted names masked: the same finding in two macro
-    instances (other names, other values) has the same shape. A quoted file name or path is
-    kept: another file is another cause (two instances missing ``wrist1.dae`` and
-    ``wrist2.dae`` are two findings, each naming its file)."""
-
-    def mask(match: re.Match) -> str:
-        text = match.group()
-        return text if text[0] in "'\"" and _FILE_NAME.search(text) else "#"
-
-    return re.sub(r"'[^']*'|\"[^\"]*\"|[-+]?\d[\d.eE+-]*", mask, message)
+    instances (other names, other values) has the same shape."""
+    return re.sub(r"'[^']*'|\"[^\"]*\"|[-+]?\d[\d.eE+-]*", "#", message)
 
 
+_QUOTED = re.compile(r"'[^']*'|\"[^\"]*\"")
 _FILE_NAME = re.compile(r"/|\.[A-Za-z][A-Za-z0-9]{0,4}['\"]$")
+OTHERS = "; other instances name "  # the files a grouped finding's other instances name
+
+
+def _with_others(message: str, messages) -> str:
+    """``message`` (without an ``OTHERS`` part) naming the files the other ``messages`` of its
+    group name and it does not (instances of one macro line missing ``wrist1.dae``,
+    ``wrist2.dae``...: one finding at the line, no file hidden)."""
+    own = {t for t in _QUOTED.findall(message) if _FILE_NAME.search(t)}
+    others = list(dict.fromkeys(t for m in messages for t in _QUOTED.findall(m.split(OTHERS)[0])
+                                if _FILE_NAME.search(t) and t not in own))
+    if not others:
+        return message
+    return message + OTHERS + ", ".join(others[:3]) + (
+        f" and {len(others) - 3} more" if len(others) > 3 else "")
 
 
 def group_instances(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
@@ -119,7 +127,8 @@ def group_instances(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
         fixes = [d.fix for d in members if d.fix is not None]  # each instance's edits
         fix = fixes[0]._replace(edits=tuple(dict.fromkeys(
             e for f in fixes for e in f.edits))) if fixes else None
-        result.append(first._replace(message=first.message + sites_text(sites),
+        message = _with_others(first.message, [d.message for d in members])
+        result.append(first._replace(message=message + sites_text(sites),
                                      instances=len(sites), call_sites=sites, fix=fix))
     return result
 
@@ -144,10 +153,11 @@ def merge_repeats(files: list["FileReport"]) -> list["FileReport"]:
                 continue
             seen = owner.diagnostics[index] if owner is not report else kept[index]
             sites = tuple(dict.fromkeys(seen.call_sites + d.call_sites))
-            if sites != seen.call_sites:
-                seen_base = seen.message[:len(seen.message) - len(sites_text(seen.call_sites))]
+            seen_base = seen.message[:len(seen.message) - len(sites_text(seen.call_sites))]
+            named = _with_others(seen_base.split(OTHERS)[0], [seen_base, base])
+            if sites != seen.call_sites or named != seen_base:
                 owner.diagnostics[index] = seen._replace(
-                    message=seen_base + sites_text(sites), instances=len(sites),
+                    message=named + sites_text(sites), instances=len(sites),
                     call_sites=sites)
         report.diagnostics = kept
     return files
