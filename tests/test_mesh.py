@@ -439,3 +439,32 @@ def test_macro_instances_missing_different_files_name_every_file(tmp_path):
     message = found[0]["message"]
     assert all(name in message for name in ("wrist1.stl", "wrist2.stl", "wrist3.stl")), message
     assert message.count("wrist2.stl") == 1, message
+
+
+def test_repeated_checks_of_one_macro_line_stay_one_finding_naming_every_file(tmp_path):
+    """A fragment read by two entries, each instance missing other files: one finding at the
+    macro line in the package's report, naming every file (merge_repeats over what
+    group_instances named)."""
+    package = tmp_path / "arm_description"
+    (package / "urdf").mkdir(parents=True)
+    (package / "meshes").mkdir()
+    (package / "package.xml").write_text("<package><name>arm_description</name></package>")
+    (package / "urdf" / "parts.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:macro name="part" params="name mesh">\n'
+        '    <link name="${name}"><visual><geometry><mesh filename="../meshes/${mesh}"/>'
+        '</geometry></visual></link>\n  </xacro:macro>\n</robot>\n')
+    for robot, files in (("a", ("v1_1.stl", "v1_2.stl")), ("b", ("v2_1.stl", "v2_2.stl"))):
+        (package / "urdf" / f"{robot}.urdf.xacro").write_text(
+            f'<?xml version="1.0"?>\n<robot name="{robot}" '
+            'xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+            '  <xacro:include filename="parts.xacro"/>\n'
+            + "".join(f'  <xacro:part name="l{i}" mesh="{m}"/>\n' for i, m in enumerate(files))
+            + '  <joint name="j" type="fixed"><parent link="l0"/><child link="l1"/></joint>\n'
+            '</robot>\n')
+    result = run_urdftool("check", "--format", "json", "--jobs", "1", str(package))
+    found = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+             if d["rule"] == "mesh.not-found"]
+    assert len(found) == 1, [d["message"] for d in found]
+    assert all(m in found[0]["message"] for m in ("v1_1.stl", "v1_2.stl", "v2_1.stl",
+                                                  "v2_2.stl")), found[0]["message"]

@@ -86,7 +86,7 @@ def _with_others(message: str, messages) -> str:
     group name and it does not (instances of one macro line missing ``wrist1.dae``,
     ``wrist2.dae``...: one finding at the line, no file hidden)."""
     own = {t for t in _QUOTED.findall(message) if _FILE_NAME.search(t)}
-    others = list(dict.fromkeys(t for m in messages for t in _QUOTED.findall(m.split(OTHERS)[0])
+    others = list(dict.fromkeys(t for m in messages for t in _QUOTED.findall(m)
                                 if _FILE_NAME.search(t) and t not in own))
     if not others:
         return message
@@ -142,7 +142,7 @@ def merge_repeats(files: list["FileReport"]) -> list["FileReport"]:
         for d in report.diagnostics:
             base = d.message[:len(d.message) - len(sites_text(d.call_sites))]
             key = (d.rule, d.severity, d.path, d.line, d.column,
-                   _shape(base) if d.call_sites else base)
+                   _shape(base.split(OTHERS)[0]) if d.call_sites else base)
             if key not in first:
                 first[key] = (report, len(kept))
                 kept.append(d)
