@@ -149,3 +149,19 @@ def test_examples_agree_with_plain_xacro(expression):
     kind, ours = _ours(expression)
     assert kind == "value", ours
     assert repr(ours) == repr(xacro.safe_eval(expression, _table()))
+
+
+@pytest.mark.parametrize("expression", [
+    # found by `make fuzz` (3000 examples): zip stopped at the empty string before it
+    # looked at the float, which Python's zip refuses when called
+    "python.list(python.zip('', 2.2250738585072014e-308))", "python.list(python.map(str, 2.0))",
+    "python.list(python.filter(None, 3))", "python.list(python.enumerate(1))",
+    "python.reversed(1)", "[v for v in python.zip([], 5)]",
+])
+def test_arguments_are_checked_when_called_as_python_does(expression):
+    import xacro
+
+    kind, ours = _ours(expression)
+    with pytest.raises(TypeError) as plain:
+        xacro.safe_eval(expression, _table())
+    assert (kind, str(ours)) == ("TypeError", str(plain.value))

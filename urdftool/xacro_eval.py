@@ -539,6 +539,8 @@ class Interpreter:
     # -- iteration --
 
     def iterate(self, value):
+        """An iterator over ``value`` that ticks the clock at every item; TypeError now (as
+        Python's ``iter``) when ``value`` is not iterable, not at the first item."""
         kind = type(value)
         if kind is Lazy:
             iterator = value.iterator
@@ -547,6 +549,9 @@ class Interpreter:
             iterator = iter(value)
         else:
             raise TypeError(f"'{_typename(value)}' object is not iterable")
+        return self._ticking(iterator)
+
+    def _ticking(self, iterator):
         for item in iterator:
             self.tick()
             yield item
@@ -1408,35 +1413,35 @@ def _lazy(kind, make):
     return impl
 
 
+# map/filter/zip/enumerate/reversed check their arguments when called, as Python's do (an
+# argument that is not iterable is a TypeError even when nothing is taken from the result:
+# zip('', 2.0)); only the items are made lazily
+
+
 def _map(it, args, kwargs):
     _arity("map", args, kwargs, 2, MAX_ITEMS)
     function, iterables = args[0], [it.iterate(a) for a in args[1:]]
-    for values in zip(*iterables):
-        yield it.call(function, list(values))
+    return (it.call(function, list(values)) for values in zip(*iterables))
 
 
 def _filter(it, args, kwargs):
     _arity("filter", args, kwargs, 2, 2)
     function = args[0]
-    for value in it.iterate(args[1]):
-        if (value if function is None else it.call(function, [value])):
-            yield value
+    return (value for value in it.iterate(args[1])
+            if (value if function is None else it.call(function, [value])))
 
 
 def _zip(it, args, kwargs):
     _arity("zip", args, kwargs, 0, MAX_ITEMS, ("strict",))
     iterables = [it.iterate(a) for a in args]
-    if kwargs.get("strict"):
-        yield from (tuple(v) for v in zip(*iterables, strict=True))
-    else:
-        yield from (tuple(v) for v in zip(*iterables))
+    return (tuple(v) for v in zip(*iterables, strict=bool(kwargs.get("strict"))))
 
 
 def _enumerate(it, args, kwargs):
     _arity("enumerate", args, kwargs, 1, 2, ("start",))
     start = args[1] if len(args) > 1 else kwargs.get("start", 0)
     _scalars("enumerate", [start])
-    yield from enumerate(it.iterate(args[0]), start)
+    return enumerate(it.iterate(args[0]), start)
 
 
 def _reversed(it, args, kwargs):
@@ -1444,9 +1449,7 @@ def _reversed(it, args, kwargs):
     value = args[0]
     if not isinstance(value, (list, tuple, str, range, dict)):
         raise TypeError(f"'{_typename(value)}' object is not reversible")
-    for item in reversed(value):
-        it.tick()
-        yield item
+    return it._ticking(reversed(value))
 
 
 def _range(it, args, kwargs):
