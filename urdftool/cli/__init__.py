@@ -414,14 +414,15 @@ def print_finding(path, line, column, severity: str, rule: str | None, message: 
                   hint: str | None = None, err: bool = False) -> None:
     """A finding of any command, located as ``check`` does (``display.diagnostic_line``), with
     its hint on the next line; coloured on a terminal (unless NO_COLOR)."""
-    from urdftool.display import clean, diagnostic_line
+    from urdftool.display import clean, clip, diagnostic_line
 
     stream = sys.stderr if err else sys.stdout
     colour = _colour(stream)
-    text = diagnostic_line(path, line, column, severity, rule, message, colour)
+    # clipped as check's report clips (a message that lists 50,000 joint names is one line)
+    text = diagnostic_line(path, line, column, severity, rule, clip(message), colour)
     if hint:
         text += "\n        " + (click.style("fix:", fg="green") if colour else "fix:") + \
-            " " + clean(hint)
+            " " + clean(clip(hint))
     echo(text, err=err)
 
 
