@@ -202,6 +202,20 @@ def test_changed_files_on_a_pull_request(repo):
     assert "1 finding(s) in files that were not given" in run.output
 
 
+def test_a_pull_request_that_deletes_an_included_file_fails_at_the_include(repo):
+    """The Action passes deleted files (``--diff-filter=ACMRD``) and ``check --changed``
+    re-checks the entries that included them: deleting wheel.xacro fails the pull request at
+    the include line (it passed: no file was given, or exit 2 for a missing one)."""
+    _pull_request(repo)
+    _git(repo, "rm", "-q", "src/demo_description/urdf/wheel.xacro")
+    _git(repo, "commit", "-qm", "the pull request deletes a fragment")
+    run = run_action(repo, {"changed-files": "true"}, {"base_ref": "main"})
+    listed = [line for line in run.output.splitlines() if "error xacro.error" in line]
+    assert run.code == 1, run.output
+    # in the log (the includer is not a file of the pull request: a notice, not annotated)
+    assert len(listed) == 1 and "robot.urdf.xacro:" in listed[0] and "wheel.xacro" in listed[0]
+
+
 def test_changed_files_annotate_only_the_pull_requests_files(repo):
     _pull_request(repo)
     limits = repo / "src" / "arm_description" / "config" / "joint_limits.yaml"

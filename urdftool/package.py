@@ -407,6 +407,8 @@ def plan(paths: list[str], changed: bool = False, selection: Selection | None = 
                 files.append(path)  # (changed-files mode: a YAML, a mesh, a launch file only
             if given is not None:  # re-checks the entries that read it: ``triggered``)
                 given.add(str(path.resolve()))
+        elif given is not None:  # changed-files mode, a file the change deletes: the entries
+            given.add(real(path))  # that read it are checked (its includers' errors shown)
         else:
             raise ToolError(f"{raw}: no such file or directory")
     if given is not None:
@@ -533,13 +535,19 @@ def classify(targets: list[Target], reports: list[FileReport],
         notes.extend(selection.unused())
     if given is not None:
         kept, elsewhere = [], 0
+        deleted = sorted(p for p in given if not os.path.lexists(p))
+
+        def given_or_deleted(d) -> bool:  # a finding in a given file, or naming a deleted one
+            return real(d.path) in given or any(p in d.message for p in deleted)
+
         for i in shown:
             report = reports[i]
             inputs = triggers(targets[i], report, given)
             if not inputs:
-                if not ({resolved[i], *report.includes} & given):
+                if not ({resolved[i], *report.includes} & given) and not any(
+                        any(p in d.message for p in deleted) for d in report.diagnostics):
                     continue
-                inside = [d for d in report.diagnostics if str(Path(d.path).resolve()) in given]
+                inside = [d for d in report.diagnostics if given_or_deleted(d)]
                 elsewhere += len(report.diagnostics) - len(inside)
                 report.diagnostics = inside
             else:  # a YAML, a mesh, a launch file: its values show in the entry's findings
