@@ -277,18 +277,26 @@ def end_tag(text: str, tag: tuple[int, int], name: str) -> tuple[int, int] | Non
                     depth += 1
 
 
+def _written(texts: dict[str, str], loc, names: tuple[str, ...], attr: str):
+    """(text, line starts, start tag span, attribute span or None when not written) of
+    attribute ``attr`` of the element written at ``loc`` (its tag one of ``names``, any when
+    empty); None when the text or the tag is not found."""
+    text = texts.get(loc.path) if loc is not None and loc.line else None
+    if text is None:
+        return None
+    starts = line_starts(text)
+    tag = tag_at(text, starts, loc.line, loc.column, names)
+    return None if tag is None else (text, starts, tag, attribute(text, tag, attr))
+
+
 def attribute_loc(texts: dict[str, str], loc, names: tuple[str, ...], attr: str):
     """``loc`` (a model ``Loc`` of an element whose tag is one of ``names``, any when empty)
     moved to where attribute ``attr`` is written in its start tag, on whichever line of the
     tag that is; ``loc`` itself when the tag or the attribute is not found."""
-    text = texts.get(loc.path) if loc is not None and loc.line else None
-    if text is None:
+    found = _written(texts, loc, names, attr)
+    if found is None or found[3] is None:
         return loc
-    starts = line_starts(text)
-    tag = tag_at(text, starts, loc.line, loc.column, names)
-    span = attribute(text, tag, attr) if tag is not None else None
-    if span is None:
-        return loc
+    _, starts, _, span = found
     from bisect import bisect_right
 
     line = bisect_right(starts, span[0])
@@ -308,14 +316,10 @@ def value_edit(texts: dict[str, str], loc, names: tuple[str, ...], attr: str,
     body, once for every instance), the macro call site when the value is a macro parameter
     given there as a literal. A value computed by an expression gets ``ByHand`` (why), a tag
     that cannot be found None."""
-    text = texts.get(loc.path) if loc is not None else None
-    if text is None:
+    found = _written(texts, loc, names, attr)
+    if found is None:
         return None
-    starts = line_starts(text)
-    tag = tag_at(text, starts, loc.line, loc.column, names)
-    if tag is None:
-        return None
-    span = attribute(text, tag, attr)
+    text, starts, tag, span = found
     if span is None:  # not written: add it before the end of the start tag
         close = tag[1] - (2 if text[tag[1] - 2] == "/" else 1)
         while close > tag[0] and text[close - 1] in " \t":
@@ -348,14 +352,10 @@ def tail_edit(texts: dict[str, str], loc, names: tuple[str, ...], attr: str, old
     """The edit replacing ``old`` by ``new`` at the end of attribute ``attr`` of the element
     written at ``loc``, when the value as written ends with ``old`` literally (a file name after
     ``$(find pkg)/`` or ``package://pkg/``); None otherwise (computed there, or not found)."""
-    text = texts.get(loc.path) if loc is not None else None
-    if text is None:
+    found = _written(texts, loc, names, attr)
+    if found is None or found[3] is None:
         return None
-    starts = line_starts(text)
-    tag = tag_at(text, starts, loc.line, loc.column, names)
-    span = attribute(text, tag, attr) if tag is not None else None
-    if span is None:
-        return None
+    text, starts, _, span = found
     value = text[span[2]:span[3]]
     kept = value[:len(value) - len(old)]
     if not value.endswith(old) or "}" in value[len(kept):] or kept.count("${") > kept.count("}"):
