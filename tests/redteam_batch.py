@@ -107,5 +107,29 @@ def main() -> None:
         json.dump({"runs": results, "peak_mb": peak / 1024}, stream)
 
 
+def run_plan(plan: list[dict], directory, env: dict, timeout: float) -> dict:
+    """The tests' side: ``plan`` run by this script in a fresh process (PLAN and RESULTS in
+    ``directory``), its report ({"runs": [...], "peak_mb": ..., "batch_output": ...});
+    AssertionError naming the run that hung or the batch's own error."""
+    import subprocess
+    from pathlib import Path
+
+    plan_path, results = Path(directory) / "plan.json", Path(directory) / "results.json"
+    plan_path.write_text(json.dumps(plan))
+    root = Path(__file__).resolve().parent.parent
+    try:
+        done = subprocess.run([sys.executable, __file__, str(plan_path), str(results)], env=env,
+                              cwd=root, capture_output=True, text=True, timeout=timeout,
+                              check=False)
+    except subprocess.TimeoutExpired:
+        started = Path(f"{results}.started")
+        raise AssertionError(f"hung on {started.read_text() if started.exists() else '?'}") \
+            from None
+    assert done.returncode == 0, done.stderr[-3000:]
+    report = json.loads(results.read_text())
+    report["batch_output"] = done.stdout + done.stderr  # what the batch process itself printed
+    return report
+
+
 if __name__ == "__main__":
     main()

@@ -228,7 +228,12 @@ def test_gjk_inside_shortcut_gives_what_the_full_search_gives(monkeypatch):
         scale = rng.choice([0.1, 0.9, 1.0, 1.1, 3.0])
         point = tuple(scale * rng.gauss(0, size) for _ in range(3))
         cases.append((point, [extent]))
+    shortcuts = []
+    inside = phys._strictly_inside
+    monkeypatch.setattr(phys, "_strictly_inside",
+                        lambda points: shortcuts.append(inside(points)) or shortcuts[-1])
     fast = [phys.hull_escape(point, extents) for point, extents in cases]
+    assert sum(shortcuts) > 50  # the shortcut was taken, so the comparison says something
     monkeypatch.setattr(phys, "_strictly_inside", lambda points: False)
     full = [phys.hull_escape(point, extents) for point, extents in cases]
     assert fast == full

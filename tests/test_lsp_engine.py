@@ -33,14 +33,10 @@ def _engine() -> Engine:
     return Engine(settings)
 
 
-def test_an_edit_rechecks_only_the_checks_that_read_the_file(tmp_path):
-    (tmp_path / "package.xml").write_text("<package/>", encoding="utf-8")
-    (tmp_path / "macros.xacro").write_text(MACROS, encoding="utf-8")
-    (tmp_path / "data.yaml").write_text(DATA, encoding="utf-8")
-    (tmp_path / "robot.urdf.xacro").write_text(ENTRY, encoding="utf-8")
-    (tmp_path / "other.urdf").write_text(OTHER, encoding="utf-8")
-    engine = _engine()
-    checked = []
+
+def _spy_checks(engine) -> list[str]:
+    """The file names of the targets ``engine`` checks from now on, in order."""
+    checked: list[str] = []
     original = engine._check_one
 
     def spy(unit, index, options):
@@ -48,6 +44,16 @@ def test_an_edit_rechecks_only_the_checks_that_read_the_file(tmp_path):
         original(unit, index, options)
 
     engine._check_one = spy
+    return checked
+
+def test_an_edit_rechecks_only_the_checks_that_read_the_file(tmp_path):
+    (tmp_path / "package.xml").write_text("<package/>", encoding="utf-8")
+    (tmp_path / "macros.xacro").write_text(MACROS, encoding="utf-8")
+    (tmp_path / "data.yaml").write_text(DATA, encoding="utf-8")
+    (tmp_path / "robot.urdf.xacro").write_text(ENTRY, encoding="utf-8")
+    (tmp_path / "other.urdf").write_text(OTHER, encoding="utf-8")
+    engine = _engine()
+    checked = _spy_checks(engine)
     engine.refresh([str(tmp_path / "macros.xacro")])
     assert sorted(checked) == ["macros.xacro", "other.urdf", "robot.urdf.xacro"]
     checked.clear()
@@ -109,14 +115,7 @@ def test_checks_put_off_stop_between_targets_when_asked(tmp_path):
     rest stays pending and runs later."""
     engine, _ = _two_fragments(tmp_path)
     assert engine.pending()
-    checked = []
-    original = engine._check_one
-
-    def spy(unit, index, options):
-        checked.append(unit.targets[index].path.rsplit("/", 1)[-1])
-        original(unit, index, options)
-
-    engine._check_one = spy
+    checked = _spy_checks(engine)
     assert engine.refresh_pending(lambda: bool(checked)) and len(checked) == 1
     assert engine.pending()
     engine.refresh_pending(lambda: False)

@@ -20,14 +20,12 @@ import json
 import os
 import re
 import struct
-import subprocess
-import sys
 import zipfile
 from pathlib import Path
 
 import pytest
 
-from tests.conftest import ROOT
+from tests.redteam_batch import run_plan
 
 SECRET = "hunter2-redteam-7a9c"
 ALL = ["check", "expand", "inertia", "limits", "tree", "dh", "jacobian", "sim"]
@@ -395,22 +393,11 @@ def _plan(corpus: Corpus, ci: bool) -> list[dict]:
 
 @pytest.mark.parametrize("ci", [True, False], ids=["ci-untrusted", "trusted"])
 def test_the_corpus_holds(corpus, ci, tmp_path):
-    plan = tmp_path / "plan.json"
-    plan.write_text(json.dumps(_plan(corpus, ci)))
-    results = tmp_path / "results.json"
     env = {**os.environ, "URDFTOOL_TEST_SECRET": SECRET, "URDFTOOL_CACHE_DIR": str(tmp_path),
            "NO_COLOR": "1"}
     env.pop("CI", None)
     before = {p for p in corpus.base.rglob("*") if not p.is_symlink()}
-    try:
-        done = subprocess.run([sys.executable, str(ROOT / "tests" / "redteam_batch.py"),
-                               str(plan), str(results)], env=env, cwd=ROOT,
-                              capture_output=True, text=True, timeout=300, check=False)
-    except subprocess.TimeoutExpired:
-        started = Path(f"{results}.started")
-        pytest.fail(f"hung on {started.read_text() if started.exists() else '?'}")
-    assert done.returncode == 0, done.stderr[-3000:]
-    report = json.loads(results.read_text())
+    report = run_plan(_plan(corpus, ci), tmp_path, env, timeout=300)
     failures = []
     for run in report["runs"]:
         output = run["out"] + run["err"]
@@ -437,7 +424,7 @@ def test_the_corpus_holds(corpus, ci, tmp_path):
     leaked_files = [p for p in written if SECRET in p.read_text(errors="replace")]
     assert not failures, "\n".join(failures)
     assert not markers and not leaked_files, (markers, leaked_files)
-    assert SECRET not in done.stdout + done.stderr or not ci
+    assert SECRET not in report["batch_output"] or not ci
     assert report["peak_mb"] < MEGABYTES, report["peak_mb"]
 
 

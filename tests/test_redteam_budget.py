@@ -9,15 +9,12 @@ The runs go through one process (``tests/redteam_batch.py``), as ``tests/test_re
 
 from __future__ import annotations
 
-import json
 import os
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
-from tests.conftest import ROOT
+from tests.redteam_batch import run_plan
 
 TIMEOUT = 1.0
 STARTUP = 3.0  # seconds beyond 2 x --timeout: imports, the reader's start, pybullet
@@ -170,17 +167,10 @@ def _plan(cases, entries: Path, ci: bool) -> list[dict]:
 @pytest.mark.parametrize("ci", [True, False], ids=["ci-untrusted", "trusted"])
 def test_every_reading_command_holds(plan_cases, ci, tmp_path):
     _, _, cases, entries = plan_cases
-    plan_file = tmp_path / "plan.json"
     plan = _plan(cases, entries, ci)
-    plan_file.write_text(json.dumps(plan))
-    results = tmp_path / "results.json"
     env = {**os.environ, "URDFTOOL_CACHE_DIR": str(tmp_path), "NO_COLOR": "1"}
     env.pop("CI", None)
-    done = subprocess.run([sys.executable, str(ROOT / "tests" / "redteam_batch.py"),
-                           str(plan_file), str(results)], env=env, cwd=ROOT,
-                          capture_output=True, text=True, timeout=600, check=False)
-    assert done.returncode == 0, done.stderr[-3000:]
-    report = json.loads(results.read_text())
+    report = run_plan(plan, tmp_path, env, timeout=600)
     failures = []
     for run in report["runs"]:
         output = run["out"] + run["err"]
