@@ -89,10 +89,7 @@ def is_file(path) -> bool:
     name = os.fspath(path)
     found = _FILES.get(name)
     if found is None:
-        try:
-            found = os.path.isfile(name)
-        except (OSError, ValueError):
-            found = False
+        found = os.path.isfile(name)  # (False for a name the system refuses, not an error)
         if os.path.isabs(name):
             _FILES[name] = found
     return found
@@ -146,7 +143,7 @@ def repository_of(path) -> Path | None:
             found = _REPOSITORIES[directory]
             break
         walked.append(directory)
-        if any(_lexists(os.path.join(directory, name)) for name in VCS_DIRS):
+        if any(os.path.lexists(os.path.join(directory, name)) for name in VCS_DIRS):
             found = _root(directory)
             break
         parent = os.path.dirname(directory)
@@ -156,13 +153,6 @@ def repository_of(path) -> Path | None:
     for directory in walked:
         _REPOSITORIES[directory] = found
     return found
-
-
-def _lexists(path: str) -> bool:
-    try:
-        return os.path.lexists(path)
-    except (OSError, ValueError):
-        return False
 
 
 def repository_for(path) -> Path:
@@ -240,9 +230,6 @@ class Roots:
             if os.path.isabs(name):
                 _READABLE[key] = found
         return found
-
-    def readable_resolved(self, target: Path) -> bool:
-        return self._readable_text(os.fspath(target))
 
     def _readable_text(self, target: str) -> bool:
         """``target`` (a realpath) is a root or below one, not in its version-control
