@@ -1,38 +1,57 @@
 # urdftool: `make check` runs the validator on robots/, `make test` runs the test suite.
-# Both create the virtual environment and install everything they need.
+# Both create the virtual environment and install what they need: `check` the package with its
+# extras (`.[all]`), `test` the test bench on top (`.[test]`: pytest, the oracles, linters).
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
-STAMP := $(VENV)/.installed
+# one stamp per install, so that `make check` then `make test` adds the test bench
+MAIN_STAMP := $(VENV)/.installed-main
+TEST_STAMP := $(VENV)/.installed
+# `make test`: the suite that runs in minutes; `make test-slow`: the tests marked `slow` (scale,
+# attack and oracle suites; CI runs both: .ci/run)
+PYTEST := $(BIN)/python -m pytest -q -n 2
 
-.PHONY: check test fuzz bench lint clean
+.PHONY: check test test-slow test-all fuzz bench lint clean
 
-$(STAMP): pyproject.toml
+$(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
+
+$(MAIN_STAMP): pyproject.toml | $(BIN)/python
+	$(BIN)/pip install --quiet -e '.[all]'
+	touch $@
+
+$(TEST_STAMP): pyproject.toml $(MAIN_STAMP)
 	$(BIN)/pip install --quiet -e '.[test]'
-	touch $(STAMP)
+	touch $@
 
 # The as-published seed robots must show their defects (exit 1); the corrected copies must pass
 # with no errors and no warnings (--strict).
-check: $(STAMP)
+check: $(MAIN_STAMP)
 	@echo "== as published (defects expected) =="
 	@$(BIN)/urdftool check robots/*/published; rc=$$?; \
 	  if [ $$rc -ne 1 ]; then echo "expected exit 1 from the published robots, got $$rc"; exit 1; fi
 	@echo "== corrected (must be clean) =="
 	@$(BIN)/urdftool check --strict robots/*/corrected
 
-test: $(STAMP)
-	$(BIN)/python -m pytest -q -n 2
+test: $(TEST_STAMP)
+	$(PYTEST) -m "not slow"
 
-fuzz: $(STAMP)
-	$(BIN)/python -m urdftool.cli.fuzz --cases 10000
+# exit 5 (no test collected) fails: an empty slow set means the marker was lost
+test-slow: $(TEST_STAMP)
+	$(PYTEST) -m slow
+
+test-all: $(TEST_STAMP)
+	$(PYTEST)
+
+fuzz: $(TEST_STAMP)
+	$(BIN)/python -m urdftool.fuzz --cases 10000
 	URDFTOOL_FUZZ_EXAMPLES=3000 $(BIN)/python -m pytest -q tests/test_xacro_eval_fuzz.py
 
-bench: $(STAMP)
+bench: $(TEST_STAMP)
 	$(BIN)/python benchmarks/bench_check.py
 
-lint: $(STAMP)
+lint: $(TEST_STAMP)
 	$(BIN)/ruff check urdftool tests benchmarks
 
 clean:

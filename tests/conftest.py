@@ -113,3 +113,55 @@ def _own_mesh_cache(monkeypatch, tmp_path_factory):
     monkeypatch.setattr("urdftool.cache.ENABLED", True)
     monkeypatch.setattr("urdftool.cache.WRITABLE", True)
 # -- end mesh cache -------------------------------------------------------------------------
+
+
+# -- CPU durations (issue 33) ---------------------------------------------------------------
+# `pytest --cpu-durations=N`: the N tests that used the most CPU (this process and the children
+# it waited for; setup, call and teardown). On a shared machine wall time (--durations) measures
+# the load as much as the test; this is what a test costs an idle two-core machine.
+def pytest_addoption(parser):
+    parser.addoption("--cpu-durations", type=int, default=None, metavar="N",
+                     help="list the N tests that used the most CPU time (with children)")
+
+
+def _cpu_seconds() -> float:
+    import resource
+
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    if item.config.getoption("cpu_durations") is not None:
+        item._cpu_start = _cpu_seconds()
+    yield
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    outcome = yield
+    start = getattr(item, "_cpu_start", None)
+    if start is not None and call.when == "teardown":
+        outcome.get_result().user_properties.append(("cpu_seconds", _cpu_seconds() - start))
+
+
+_CPU: dict[str, float] = {}
+
+
+def pytest_runtest_logreport(report):
+    for key, value in getattr(report, "user_properties", ()):
+        if key == "cpu_seconds":
+            _CPU[report.nodeid] = value
+
+
+def pytest_terminal_summary(terminalreporter, config):
+    count = config.getoption("cpu_durations")
+    if count is None or not _CPU:
+        return
+    terminalreporter.write_sep("=", f"slowest {count} by CPU time (with children)")
+    for nodeid, seconds in sorted(_CPU.items(), key=lambda kv: -kv[1])[:count]:
+        terminalreporter.write_line(f"{seconds:8.2f}s cpu  {nodeid}")
+    terminalreporter.write_line(f"{sum(_CPU.values()):8.2f}s cpu  total of {len(_CPU)} tests")
+# -- end CPU durations ----------------------------------------------------------------------

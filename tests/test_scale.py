@@ -1,21 +1,31 @@
 """Big inputs (issue 15): a 50k-link chain through every command (no recursion over the tree,
 nothing quadratic), and big tables drawn without rich's per-cell measurement looking exactly
-as rich draws them. Correctness only: the timings are in benchmarks/bench_scale.py."""
+as rich draws them. Correctness only: the timings are in benchmarks/bench_scale.py.
+
+The 50k chains run in CI (`slow`, `make test-slow`, issue 33); `make test` runs the same tests on
+3k-link chains, three times Python's recursion limit: a recursive walk fails there too."""
 
 from __future__ import annotations
 
 import json
 import re
+import sys
 
 import pytest
 
 from tests.conftest import example_robot_urdfs, run_urdftool
 
-N = 50_000
+SIZES = [pytest.param(3_000, id="3k"), pytest.param(50_000, id="50k", marks=pytest.mark.slow)]
+
+
+@pytest.fixture(scope="module", params=SIZES)
+def N(request):
+    assert request.param >= 3 * sys.getrecursionlimit()
+    return request.param
 
 
 @pytest.fixture(scope="module")
-def chain(tmp_path_factory):
+def chain(tmp_path_factory, N):
     """A serial chain of N links (l0 ... l{N-1}), each with a mass (the inertia rules walk
     subtrees), nothing else: the parse stays quick."""
     parts = ['<robot name="rope">']
@@ -32,10 +42,10 @@ def chain(tmp_path_factory):
     return path
 
 
-def test_tree_of_a_50k_chain(chain):
+def test_tree_of_a_long_chain(chain, N):
     result = run_urdftool("tree", "--format", "json", chain)
     assert result.code == 0, result.err
-    # 100k levels of nesting: more than Python's json module parses (its recursion limit)
+    # 2N levels of nesting: more than Python's json module parses (its recursion limit)
     assert re.findall(r'"link": "([^"]*)"', result.out) == [f"l{i}" for i in range(N)]
     assert result.out.count("[") == result.out.count("]") == N + 1  # roots and each children
     # each node's "joint" follows its "children": innermost first
@@ -47,7 +57,7 @@ def test_tree_of_a_50k_chain(chain):
     assert max(map(len, lines)) < 300  # the indentation stops growing
 
 
-def test_check_limits_and_inertia_of_a_50k_chain(chain):
+def test_check_limits_and_inertia_of_a_long_chain(chain, N):
     check = run_urdftool("check", "--format", "json", chain)
     assert check.code in (0, 1), check.err
     assert json.loads(check.out)["summary"]["files"] == 1
@@ -59,7 +69,8 @@ def test_check_limits_and_inertia_of_a_50k_chain(chain):
     assert [link["link"] for link in json.loads(inertia.out)["links"]] == [f"l{i}" for i in range(N)]
 
 
-def test_convert_of_a_50k_sdf_chain(tmp_path):
+@pytest.mark.parametrize("N", SIZES)
+def test_convert_of_a_long_sdf_chain(tmp_path, N):
     """Each link posed 1 cm above its parent link (SDFormat 1.7 relative_to): the URDF has every
     joint once, its origin the 1 cm step (up to the rounding of poses composed in the model
     frame), in chain order."""
@@ -88,7 +99,7 @@ def test_convert_of_a_50k_sdf_chain(tmp_path):
     assert result.out.count('<mass value="0.5"/>') == N
 
 
-def test_dh_and_jacobian_at_the_end_of_a_50k_chain(chain):
+def test_dh_and_jacobian_at_the_end_of_a_long_chain(chain, N):
     """The tip's path to the root is walked in full (iteratively); the table is the last 99
     joints above the leaf."""
     dh = run_urdftool("dh", "--format", "json", "--base", f"l{N - 100}", chain)
