@@ -36,6 +36,7 @@ COMMANDS = {
     "rules": "the rule catalogue",
     "doctor": "optional libraries and --untrusted sandbox layers on this machine",
     "lsp": "language server (LSP, stdio): the findings, fixes and numbers in the editor",
+    "compare": "two descriptions of one robot (URDF, xacro, SDF, MJCF), body by body",
 }
 ALIASES = {"rule": "rules"}  # ruff's `ruff rule RULE`
 

@@ -23,7 +23,7 @@ def command(fmt):
     libraries = {name: find_spec(module) is not None for name, module in
                  (("trimesh", "trimesh"), ("scipy", "scipy"), ("pycollada", "collada"),
                   ("pillow", "PIL"), ("pinocchio", "pinocchio"), ("sympy", "sympy"),
-                  ("pybullet", "pybullet"), ("pygls", "pygls"), ("lsprotocol", "lsprotocol"),
+                  ("pybullet", "pybullet"), ("pygls", "pygls"), ("lsprotocol", "lsprotocol"), ("mujoco", "mujoco"),
                   ("landlock", "landlock"), ("pyseccomp", "pyseccomp"))}
     layers = sandbox.layers()
     if fmt == "json":
@@ -35,7 +35,7 @@ def command(fmt):
                f"{platform.system()} {platform.release()}")
     extras = {"trimesh": "mesh", "scipy": "mesh", "pycollada": "mesh", "pillow": "mesh",
               "pinocchio": "kinematics", "sympy": "kinematics", "pybullet": "sim",
-              "pygls": "lsp", "lsprotocol": "lsp"}
+              "pygls": "lsp", "lsprotocol": "lsp", "mujoco": "mjcf"}
     for name, present in libraries.items():
         if present or name not in extras:
             click.echo(f"  {name:<12} {'installed' if present else 'missing'}")
