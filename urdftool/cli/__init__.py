@@ -37,6 +37,7 @@ COMMANDS = {
     "doctor": "optional libraries and --untrusted sandbox layers on this machine",
     "lsp": "language server (LSP, stdio): the findings, fixes and numbers in the editor",
     "compare": "two descriptions of one robot (URDF, xacro, SDF, MJCF), body by body",
+    "diff": "what a change does to each robot (git revisions or two snapshots)",
 }
 ALIASES = {"rule": "rules"}  # ruff's `ruff rule RULE`
 

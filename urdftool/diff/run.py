@@ -1,0 +1,312 @@
+"""The run of ``urdftool diff`` (issue 30): which robots a change touched, each read at both
+sides as ``check`` reads it, and what changed (``diff.compare``).
+
+Each side is a directory: the repository's working tree, a temporary tree written from a
+revision's git objects (``diff.revisions``), or a snapshot given by the user. A side is planned
+and checked exactly as ``check`` would (``package.plan`` with the side's configuration, launch
+arguments and the operator's ``NAME:=VALUE``; ``check.check_model`` per target, so both sides
+read under the run's trust mode and budget); the robots compared are the entries whose inputs
+the change touched (``package.classify`` in changed-files mode: the "reads" graph of
+``check --changed``), matched across sides by their file and arguments.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import os
+import re
+import time
+from pathlib import Path
+from typing import NamedTuple
+
+from urdftool import budget
+from urdftool.check import CheckOptions, check_model
+from urdftool.config import load_config
+from urdftool.diff.compare import Change, compare
+from urdftool.errors import ToolError
+from urdftool.findings import Loc
+from urdftool.loader import run_roots
+from urdftool.package import Selection, classify, plan, with_operator_args
+from urdftool.roots import real
+
+# files no robot reads: a change to them alone plans nothing (a README, CI configuration)
+_NOT_INPUTS = (".md", ".rst", ".txt", ".cmake", ".c", ".cc", ".cpp", ".h", ".hpp", ".in",
+               ".cfg", ".toml.orig", ".gitignore", ".gitattributes")
+
+
+class Entry(NamedTuple):
+    """One robot at one side: the entry (path relative to the side's tree) and its arguments,
+    check's report of it and the robot its rules ran on (None when it could not be read)."""
+
+    path: str
+    args: dict
+    report: object
+    robot: object
+    diagnostics: list
+
+
+class RobotDiff(NamedTuple):
+    entry: str
+    args: dict
+    status: str  # changed, unchanged, added, removed, error
+    changes: list[Change]
+    reason: str | None
+    introduced: list  # diagnostics at HEAD not at BASE (check at both sides)
+    fixed: list  # diagnostics at BASE not at HEAD
+    base: Entry | None
+    head: Entry | None
+
+
+class Side(NamedTuple):
+    """A side of the diff: its label (a revision, ``WORKTREE`` or a path) and its directory."""
+
+    label: str
+    tree: Path
+    entry_file: str | None = None  # a snapshot file: its findings are named as the other's
+
+
+def relative(path: str | None, tree: Path) -> str | None:
+    """``path`` relative to ``tree`` ('/'-separated) when inside it, else as given."""
+    if path is None:
+        return None
+    full = os.path.abspath(path)
+    for root in {os.path.abspath(tree), os.path.realpath(tree)}:
+        if full == root or full.startswith(root.rstrip(os.sep) + os.sep):
+            return Path(os.path.relpath(full, root)).as_posix()
+    return path
+
+
+def relative_text(text: str, tree: Path) -> str:
+    """A message or call site with the side's tree written away (paths relative to it)."""
+    for root in sorted({os.path.abspath(tree), os.path.realpath(tree)}, key=len, reverse=True):
+        text = text.replace(root.rstrip(os.sep) + os.sep, "")
+    return text
+
+
+def relevant(name: str) -> bool:
+    """Whether a changed file may be an input of a robot (not documentation, CI, sources)."""
+    parts = name.split("/")
+    if any(part.startswith(".") for part in parts[:-1]):
+        return False
+    base = parts[-1]
+    return not (base.lower().endswith(_NOT_INPUTS) or base.upper().startswith("LICENSE"))
+
+
+def side_entries(side: Side, options: CheckOptions, changed: list[str] | None,
+                 limits: list[str]) -> tuple[dict[tuple, Entry], set[tuple]]:
+    """(every entry of the side's plan by key, the keys of those the change touched). With
+    ``changed`` (paths relative to the tree), the plan of ``check --changed`` over them;
+    without, every entry under the tree (a snapshot)."""
+    started = time.monotonic()
+    options = copy.copy(options)
+    options.load = copy.copy(options.load)
+    tree = side.tree
+    options.load.roots = run_roots([str(tree)], options.load)
+    options.config = load_config(tree)
+    selection = Selection()
+    if changed is None:
+        paths = [str(tree / limit) for limit in limits] if limits else [str(tree)]
+        targets, given = plan(paths, False, selection)
+    else:
+        names = [name for name in changed if relevant(name)]
+        if not names:
+            return {}, set()
+        targets, given = plan([str(tree / name) for name in names], True, selection)
+    targets = with_operator_args(targets, options.load.xacro_args)
+    if not targets:
+        return {}, set()
+    budget.start(options.load.timeout, len({real(t.path) for t in targets}), started)
+    try:
+        reports, robots = [], []
+        for target in targets:
+            try:
+                report, robot = check_model(target.path, options, target)
+            except ToolError as exc:
+                from urdftool.check import not_checked
+
+                report, robot = not_checked(target.path, target), None
+                report.diagnostics[0] = report.diagnostics[0]._replace(message=str(exc))
+            reports.append(report)
+            robots.append(robot)
+    finally:
+        budget.stop()
+    every = [list(r.diagnostics) for r in reports]
+    shown, _ = classify(targets, reports, given, selection)
+    shown_ids = {id(r) for r in shown}
+    entries: dict[tuple, Entry] = {}
+    touched: set[tuple] = set()
+    for target, report, robot, diagnostics in zip(targets, reports, robots, every):
+        if report.role != "entry":
+            continue
+        path = relative(target.path, tree)
+        if limits and changed is not None and not any(
+                path == limit.rstrip("/") or path.startswith(limit.rstrip("/") + "/")
+                for limit in limits):
+            continue
+        key = (path, tuple(sorted(report.args.items())))
+        entries.setdefault(key, Entry(path, dict(report.args), report, robot, diagnostics))
+        if id(report) in shown_ids or changed is None:
+            touched.add(key)
+    return entries, touched
+
+
+class Meshes:
+    """A mesh geometry's content at one side: a digest of the file (memoised by path) and,
+    when two differ, its summary (``physics.meshes.load_mesh``: bounding box and volume)."""
+
+    def __init__(self):
+        self._digests: dict[str, str | None] = {}
+
+    def _path(self, robot, geometry):
+        from urdftool.physics.meshes import resolve
+
+        try:
+            path = resolve(robot, geometry)
+        except Exception:  # noqa: BLE001 - an unresolvable URI: check reports it
+            return None
+        return path if path is not None and os.path.isfile(path) else None
+
+    def digest(self, robot, geometry) -> str | None:
+        path = self._path(robot, geometry)
+        if path is None:
+            return None
+        key = real(path)
+        if key not in self._digests:
+            from urdftool.files import read_regular
+            from urdftool.physics.meshes import MAX_MESH_BYTES
+
+            try:
+                self._digests[key] = hashlib.sha256(read_regular(key, MAX_MESH_BYTES)).hexdigest()
+            except OSError:
+                self._digests[key] = None
+        return self._digests[key]
+
+    def summary(self, robot, geometry):
+        path = self._path(robot, geometry)
+        if path is None:
+            return None
+        from urdftool.physics.meshes import load_mesh
+
+        return load_mesh(path, need_volume=True)
+
+
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def _finding_key(d, side: Side) -> tuple:
+    path = relative(d.path, side.tree)
+    message = relative_text(d.message, side.tree)
+    if side.entry_file is not None:
+        name = os.path.basename(side.entry_file)
+        if real(d.path) == real(side.entry_file):
+            path = "<entry>"
+        message = message.replace(name, "<entry>")
+    return (d.rule, path, _NUMBER.sub("#", message))
+
+
+def _findings_delta(base: Entry | None, head: Entry | None, base_tree: Side,
+                    head_tree: Side) -> tuple[list, list]:
+    """(introduced, fixed): findings of HEAD's check not at BASE and the reverse, matched by
+    rule, file and message without its numbers (a finding whose value changed is the same)."""
+    from collections import Counter
+
+    before = Counter(_finding_key(d, base_tree) for d in (base.diagnostics if base else ()))
+    after = Counter(_finding_key(d, head_tree) for d in (head.diagnostics if head else ()))
+    introduced, fixed = [], []
+    left = after - before
+    for d in head.diagnostics if head else ():
+        key = _finding_key(d, head_tree)
+        if left[key] > 0:
+            left[key] -= 1
+            introduced.append(d)
+    gone = before - after
+    for d in base.diagnostics if base else ():
+        key = _finding_key(d, base_tree)
+        if gone[key] > 0:
+            gone[key] -= 1
+            fixed.append(d)
+    return introduced, fixed
+
+
+def _failure(entry: Entry) -> str | None:
+    """Why an entry gives no robot a consumer can read (no links, or an XML or xacro error:
+    check reads past it, xacro and the parsers do not), or None."""
+    stopping = [d for d in entry.diagnostics if d.severity == "error"
+                and d.rule.startswith(("xml.", "xacro."))]
+    robot = entry.robot
+    if robot is not None and robot.links and not stopping:
+        return None
+    errors = stopping or [d for d in entry.diagnostics if d.severity == "error"]
+    if not errors:
+        return "no robot (no links)"
+    d = errors[0]
+    where = f"{d.path}:{d.line}" if d.line else d.path
+    return f"{where}: {d.rule}: {d.message}"
+
+
+def diff_entries(base_side: Side, head_side: Side, base: dict, head: dict,
+                 keys: list[tuple]) -> list[RobotDiff]:
+    meshes = Meshes()
+    robots = []
+    for key in keys:
+        a, b = base.get(key), head.get(key)
+        introduced, fixed = _findings_delta(a, b, base_side, head_side)
+        path, args = key[0], dict(key[1])
+        if a is None or b is None:
+            status = "added" if a is None else "removed"
+            failure = _failure(b if a is None else a)
+            reason = (f"{'HEAD' if a is None else 'BASE'} does not expand: "
+                      f"{relative_text(failure, head_side.tree if a is None else base_side.tree)}"
+                      if failure else None)
+            robots.append(RobotDiff(path, args, status, [], reason, introduced, fixed, a, b))
+            continue
+        failures = [(label, relative_text(f, side.tree)) for label, f, side in
+                    (("BASE", _failure(a), base_side), ("HEAD", _failure(b), head_side)) if f]
+        if failures:
+            reason = "; ".join(f"{label} does not expand: {f}" for label, f in failures)
+            robots.append(RobotDiff(path, args, "error", [], reason, introduced, fixed, a, b))
+            continue
+        changes = compare(a.robot, b.robot, meshes)
+        robots.append(RobotDiff(path, args, "changed" if changes else "unchanged", changes,
+                                None, introduced, fixed, a, b))
+    return robots
+
+
+def diff_sides(base_side: Side, head_side: Side, options: CheckOptions,
+               changed: list[str] | None, limits: list[str]) -> list[RobotDiff]:
+    """The robots of two sides compared. ``changed``: the files the change touched (relative
+    to the trees), or None for two snapshots (every entry of each)."""
+    base, base_touched = side_entries(base_side, options, changed, limits)
+    head, head_touched = side_entries(head_side, options, changed, limits)
+    touched = base_touched | head_touched
+    keys = sorted(touched)
+    return diff_entries(base_side, head_side, base, head, keys)
+
+
+def diff_files(old: Path, new: Path, options: CheckOptions) -> list[RobotDiff]:
+    """Two snapshot files (a regenerated URDF): one robot, each read as ``check`` reads it."""
+    sides = []
+    for file in (old, new):
+        options_side = copy.copy(options)
+        options_side.load = copy.copy(options.load)
+        options_side.load.roots = run_roots([str(file)], options_side.load)
+        options_side.config = load_config(file.parent)
+        budget.start(options_side.load.timeout, 1)
+        try:
+            report, robot = check_model(str(file), options_side)
+        finally:
+            budget.stop()
+        sides.append(Entry(file.name, {}, report, robot, list(report.diagnostics)))
+    base_side = Side(str(old), old.parent, str(old))
+    head_side = Side(str(new), new.parent, str(new))
+    key = (new.name, ())
+    robots = diff_entries(base_side, head_side, {key: sides[0]}, {key: sides[1]}, [key])
+    return [r._replace(entry=relative(str(new), Path.cwd()) or str(new)) for r in robots]
+
+
+def located(loc: Loc | None, tree: Path) -> tuple[str | None, int | None, list[str]]:
+    """(path relative to the side's tree, line, call sites) of a location."""
+    if loc is None:
+        return None, None, []
+    return relative(loc.path, tree), loc.line, [relative_text(v, tree) for v in loc.via]
