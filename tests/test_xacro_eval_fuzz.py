@@ -1,7 +1,9 @@
 """Hypothesis over expression trees for urdftool.xacro_eval.
 
-- Benign trees (small literals, the documented symbols, str/list methods, comprehensions,
-  formatting, dotified dicts): whatever urdftool's interpreter answers, plain xacro's ``eval``
+- Benign trees (small literals, the documented symbols, sets and frozensets with their operators
+  and truth value, dicts and their views, list/set/dict/generator comprehensions, slices,
+  str/list/set/dict methods, ``python.*`` builtins, lambdas, formatting, dotified dicts):
+  whatever urdftool's interpreter answers, plain xacro's ``eval``
   answers the same (same ``repr``), or both raise. Plain xacro runs only on trees the interpreter
   finished within its limits, so the oracle itself cannot hang.
 - Hostile trees (huge numbers and strings, repetition, powers, shifts, padding, nesting): the
@@ -28,19 +30,35 @@ SETTINGS = settings(max_examples=EXAMPLES, deadline=None, derandomize=True, data
                     suppress_health_check=[HealthCheck.too_slow])
 
 NAMES = ["True", "False", "None", "pi", "x", "s", "l", "d", "'a,b'", "''", "'ab'", "[1, 2, 3]",
-         "[]", "(1, 'a')", "python.range(4)", "y.k", "y['n']"]
+         "[]", "(1, 'a')", "python.range(4)", "y.k", "y['n']", "st", "fs", "{1, 'a'}",
+         "python.set('ab')", "python.frozenset()", "d.keys()", "d.items()", "t", "1j"]
+# operands that are sets of strings or numbers (an operator between two random trees is
+# rarely one between two sets)
+SETS = ["st", "fs", "python.set('abc')", "python.set(l[2:])", "{1, 2}", "python.set()",
+        "python.frozenset(s)", "d.keys()", "python.set(python.range(3))", "{'a'}"]
 BINOPS = ["+", "-", "*", "/", "//", "%", "**", "<<", ">>", "&", "|", "^"]
 COMPARE = ["==", "!=", "<", "<=", ">", ">=", "in", "not in", "is", "is not"]
+SET_OPS = ["-", "|", "&", "^", "<=", ">=", "<", ">", "==", "!="]
 CALL1 = ["python.len", "python.abs", "str", "int", "float", "bool", "python.list", "python.tuple",
          "python.sorted", "max", "min", "python.sum", "python.any", "python.all", "round",
          "python.repr", "math.sqrt", "math.floor", "math.fabs", "radians", "python.set",
-         "xacro.tokenize", "python.list(python.reversed", "python.list(python.enumerate"]
+         "xacro.tokenize", "python.list(python.reversed", "python.list(python.enumerate",
+         "python.frozenset", "python.dict", "python.hash", "python.type", "python.complex",
+         "python.bool", "python.sorted(python.set", "python.len(python.set", "python.str",
+         "python.sorted(python.frozenset", "python.list(python.filter(None,",
+         "python.sorted(python.dict.fromkeys"]
 CALL2 = ["max", "min", "round", "python.divmod", "math.atan2", "python.isinstance",
-         "python.list(python.zip", "python.list(python.map(str,"]
+         "python.list(python.zip", "python.list(python.map(str,", "python.slice",
+         "python.list(python.map(python.max,"]
 METHODS = ["upper()", "lower()", "strip()", "split(',')", "count(1)", "index('a')",
            "startswith('a')", "replace('a', 'bb')", "zfill(4)", "center(5, '*')", "get('k')",
            "copy()", "title()", "is_integer()", "bit_length()", "real", "rsplit('_', 1)",
-           "partition('_')", "find('b')", "isdigit()", "splitlines()"]
+           "partition('_')", "find('b')", "isdigit()", "splitlines()", "keys()", "values()",
+           "items()", "union([1])", "difference('a')", "intersection('ab')", "isdisjoint([1])",
+           "issubset('abc')", "issuperset(['a'])", "symmetric_difference({1})",
+           "format_map({'a': 1})", "casefold()", "swapcase()", "ljust(3, '.')",
+           "endswith(('a', '_b'))", "removeprefix('a')", "conjugate()", "imag",
+           "setdefault('q', 1)", "pop('k', 0)", "index(1)", "rfind('_')", "isalnum()"]
 
 
 def _call(name: str, *args: str) -> str:
@@ -73,6 +91,36 @@ def _trees(leaves):
             st.tuples(children, children).map(
                 lambda t: f"xacro.dotify(python.dict(k={t[0]}, n={t[1]})).k"),
             st.tuples(children, children).map(lambda t: f"python.dict(a={t[0]}).get('a', {t[1]})"),
+            # sets: operators, membership, truth value, comprehensions, methods
+            st.tuples(st.sampled_from(SETS), st.sampled_from(SET_OPS), st.sampled_from(SETS)).map(
+                lambda t: f"({t[0]} {t[1]} {t[2]})"),
+            st.tuples(st.sampled_from(SETS), st.sampled_from(SET_OPS), children).map(
+                lambda t: f"({t[0]} {t[1]} {t[2]})"),
+            st.tuples(children, st.sampled_from(SETS)).map(lambda t: f"({t[0]} in {t[1]})"),
+            st.tuples(st.sampled_from(SETS), children, children).map(
+                lambda t: f"({t[1]} if {t[0]} else {t[2]})"),
+            st.tuples(st.sampled_from(SETS), children).map(
+                lambda t: f"', '.join(python.sorted(python.str(v) for v in {t[0]} - "
+                          f"python.set([{t[1]}])))"),
+            children.map(lambda t: f"{{v for v in {t}}}"),
+            children.map(lambda t: f"{{v: python.repr(v) for v in {t}}}"),
+            st.tuples(children, children).map(
+                lambda t: f"[(a, b) for a in {t[0]} if a for b in {t[1]}]"),
+            children.map(lambda t: f"python.sum(1 for v in {t} if v)"),
+            children.map(lambda t: f"python.list((v, i) for i, v in python.enumerate({t}))"),
+            # slices, with every part
+            st.tuples(children, children, children, children).map(
+                lambda t: f"{t[0]}[{t[1]}:{t[2]}:{t[3]}]"),
+            st.tuples(children, children).map(lambda t: f"{t[0]}[::{t[1]}]"),
+            # dicts: literals, unpacking, views
+            st.tuples(children, children).map(lambda t: f"{{'a': {t[0]}, **d, {t[1]}: 1}}"),
+            st.tuples(children, children).map(lambda t: f"(d | {{{t[0]}: {t[1]}}})"),
+            # lambdas as arguments and called
+            children.map(lambda t: f"python.sorted({t}, key=lambda v: python.repr(v))"),
+            st.tuples(children, children).map(
+                lambda t: f"python.list(python.map(lambda a, b=0: (a, b), {t[0]}, {t[1]}))"),
+            st.tuples(children, children).map(lambda t: f"(lambda a, *r, k=2: (a, r, k))"
+                                                         f"({t[0]}, {t[1]})"),
         )
     return st.recursive(leaves, extend, max_leaves=10)
 
@@ -92,6 +140,7 @@ def _table():
 
     table = xacro.Table(xacro._global_symbols)
     for name, value in {"x": 3, "s": "a_b", "l": [1, 2.5, "c"], "d": {"k": 1, "j": "v"},
+                        "st": {"a", "b"}, "fs": frozenset({1, 2}), "t": (1, "a"),
                         "y": xacro.YamlDictWrapper({"k": [1, {"z": 2}], "n": "t"})}.items():
         table._setitem(name, value, unevaluated=False)
     return table

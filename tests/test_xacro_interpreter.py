@@ -291,3 +291,48 @@ def test_tokenize_never_backtracks():
         Interpreter().evaluate("xacro.tokenize('a' * 40, 'b]|(a+)+c|[b')",
                                xacro.Table(xacro._global_symbols))
     assert time.monotonic() - started < 1
+
+
+PARITY_DOCUMENT = HEAD + """\
+  <xacro:macro name="v" params="tokens valid name">
+    <xacro:property name="_unknown_" value="${python.set(tokens) - python.set(valid)}"/>
+    <xacro:if value="${_unknown_}">${xacro.error('Unknown '+name+': '+', '.join(_unknown_))}</xacro:if>
+    <link name="${name}_${'_'.join(python.sorted(python.set(tokens) &amp; python.set(valid)))}"/>
+  </xacro:macro>
+  <xacro:v tokens="${['a','b']}" valid="${['a','b','c']}" name="x"/>
+  <xacro:v tokens="${['a','z']}" valid="${['a','b','c']}" name="y"/>
+  <xacro:property name="d" value="${python.dict(k=1, j='v', m=[1, 2])}"/>
+  <xacro:property name="fs" value="${python.frozenset('abc')}"/>
+  <link name="sets_${'a' in fs}_${fs &gt;= python.set('a')}_${python.set([1]) &lt; python.set([1, 2])}_${python.len(fs ^ python.set('aq'))}_${python.bool(python.set())}_${python.sorted(fs | python.set('z'))[-1]}_${fs.isdisjoint('xy')}"/>
+  <link name="dicts_${python.sorted(d.keys() - python.set('k'))}_${python.list(d.values())[0]}_${'k' in d.keys()}_${python.len(python.dict(d, n=2))}_${python.sorted(d)[0]}_${python.sorted(d.items())[0]}"/>
+  <link name="comp_${[v * 2 for v in python.range(3) if v]}_${python.sorted(python.set(v % 2 for v in python.range(5)))}_${python.dict((k, k.upper()) for k in 'ab')['b']}_${python.sum(v for v in python.range(4))}_${[a + b for a in 'ab' if a for b in 'cd']}"/>
+  <link name="slice_${'abcdef'[1:5:2]}_${[1, 2, 3][::-1]}_${python.list(python.range(10))[python.slice(2, 8, 3)]}_${python.range(10)[-3:]}"/>
+  <link name="str_${'a_b'.split('_')}_${'x'.center(5, '*')}_${'AbC'.swapcase()}_${'%05.2f' % 3.14159}_${' x '.strip().title()}_${'a,b'.partition(',')}"/>
+  <link name="builtins_${python.divmod(7, 2)}_${python.type(1) == python.int}_${python.isinstance(fs, python.frozenset)}_${python.complex(1, 2).imag}_${python.list(python.zip('ab', python.reversed([1, 2])))}_${python.max([3, 1, 2], key=lambda v: -v)}"/>
+  <link name="lambda_${python.list(python.map(lambda a, b=10: a + b, [1, 2]))}_${(lambda *r, k=2: (r, k))(1, k=3)}"/>
+""" + TAIL
+
+
+def test_documents_expand_as_plain_xacro(tmp_path, monkeypatch):
+    """Sets (operators, membership, truth value), dicts and their views, comprehensions,
+    slices, string methods, ``python.*`` builtins and lambdas: the same document from plain
+    xacro and from urdftool (issue 29's token check: ``'set' object is not subscriptable``)."""
+    from lxml import etree
+
+    path = tmp_path / "parity.urdf.xacro"
+    path.write_text(PARITY_DOCUMENT, encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    plain = subprocess.run([str(XACRO_BIN), str(path)], capture_output=True, text=True,
+                           timeout=60, cwd=tmp_path, check=True)
+    assert "Unknown y: z" in plain.stderr  # the file's own check fires in plain xacro
+
+    def names(text):
+        root = etree.fromstring(text.encode())
+        return [element.get("name") for element in root.iter("link")]
+
+    expected = names(plain.stdout)
+    assert len(expected) == 11 and "x_a_b" in expected, expected
+    for mode in ("--trusted", "--untrusted"):
+        ours = run_urdftool("expand", mode, path)
+        assert ours.code == 0, ours.err
+        assert names(ours.out) == expected

@@ -1,11 +1,12 @@
 """The xacro expression interpreter: ``${...}``, ``$(eval ...)`` and YAML ``!degrees``-style units.
 
 Python's ``eval`` is never called on file content. ``Interpreter`` walks the parsed ``ast`` itself
-over a closed set of values: numbers, booleans, strings, None, lists, tuples, dicts, sets, ranges,
-slices, YAML data (xacro's dotted ``YamlDictWrapper``/``YamlListWrapper``), and urdftool's own
-``Function``/``Method``/``Namespace``/``Lazy`` objects. Functions are a fixed table urdftool
-implements or wraps with checked arguments: xacro's documented symbols (math, ``python.*`` less
-``type``/``vars``/``complex``, ``xacro.*``) and a fixed list of str/list/dict/set methods. An
+over a closed set of values: numbers (complex too), booleans, strings, None, lists, tuples, dicts
+and their keys/values/items views, sets, frozensets, ranges, slices, YAML data (xacro's dotted
+``YamlDictWrapper``/``YamlListWrapper``), and urdftool's own ``Function``/``Method``/``Namespace``/
+``Lazy``/``Closure`` (a ``lambda``) objects. Functions are a fixed table urdftool implements or
+wraps with checked arguments: xacro's documented symbols (math, ``python.*`` less ``vars`` and
+three-argument ``type``, ``xacro.*``) and a fixed list of str/list/dict/set methods. An
 attribute is looked up in that table, never on a Python object, so no other object (types,
 modules, frames, functions' attributes, descriptors) ever becomes a value; whatever else an
 expression asks for raises ``UnsafeExpression`` (``xacro.unsafe-expression``).
@@ -16,8 +17,9 @@ int/str conversions, sums and products); nested data is measured (shared parts c
 time, so YAML alias bombs are too) before C code walks it (compare, hash, sort, repr); every
 loop checks the deadline; no regex is built from expression data (``xacro.tokenize`` splits by
 hand). Exceeding a limit raises ``LimitExceeded`` (``xacro.limit-exceeded``). Within these
-limits a valid expression gives what plain xacro gives, except that ``keys()``/``values()``/
-``items()`` give lists and ``map``/``filter``/``zip``... print as ``<map object>``.
+limits a valid expression gives what plain xacro gives (``tests/test_xacro_eval_fuzz.py``
+compares them), except that ``map``/``filter``/``zip``/lambdas print without an address, a
+recursion past Python's limit is ``LimitExceeded``, and ``str.encode`` (bytes) is refused.
 """
 
 from __future__ import annotations
@@ -94,6 +96,11 @@ class Function:
         self.name, self.impl, self.pytype = name, impl, pytype
 
     def __repr__(self):
+        if self.pytype is not None and self.name in (self.pytype.__name__,
+                                                     self.pytype.__qualname__):
+            return f"<class '{self.pytype.__name__}'>"
+        if self.pytype is not None and self.name.endswith(self.pytype.__qualname__):
+            return f"<class '{self.name}'>"
         return f"<built-in function {self.name}>"
 
 
@@ -146,6 +153,24 @@ class Lazy:
         return f"<{self.kind} object>"
 
 
+class Closure:
+    """A ``lambda`` of the expression: its parameters (defaults evaluated when it was made),
+    its body, the scope and the symbol table it was made in (as Python's: its globals are the
+    table xacro evaluated it with); called by the interpreter, never by Python."""
+
+    __slots__ = ("defaults", "kw_defaults", "lookup", "node", "scope")
+
+    def __init__(self, node, scope, lookup, defaults, kw_defaults):
+        self.node, self.scope, self.lookup = node, scope, lookup
+        self.defaults, self.kw_defaults = defaults, kw_defaults
+
+    def __repr__(self):
+        return "<function <lambda>>"
+
+
+_REQUIRED = object()  # a keyword-only parameter of a lambda without a default
+
+
 class _Refused:
     __slots__ = ("reason",)
 
@@ -153,10 +178,14 @@ class _Refused:
         self.reason = reason
 
 
-_SCALARS = (int, float, bool, str, type(None))
-_NUMBERS = (int, float, bool)
+_SCALARS = (int, float, bool, str, type(None), complex)
+_NUMBERS = (int, float, bool, complex)
 _SEQUENCES = (str, list, tuple)
-_OWN = (Function, Method, Namespace, UserNamespace, Lazy)
+_OWN = (Function, Method, Namespace, UserNamespace, Lazy, Closure)
+# a dict's keys()/values()/items(): Python's own views (set operators on keys and items), whose
+# attributes are never looked up (``getattr`` reads the method table)
+_VIEWS = (type({}.keys()), type({}.values()), type({}.items()))
+_ITERABLE = (list, tuple, str, range, set, frozenset, dict, *_VIEWS)
 
 
 def _typename(value) -> str:
@@ -167,6 +196,8 @@ def _typename(value) -> str:
         return "namespace"
     if kind is Lazy:
         return value.kind
+    if kind is Closure:
+        return "function"
     return kind.__name__
 
 
@@ -178,8 +209,9 @@ _ALLOWED_NODES = (
     ast.Set, ast.Call, ast.keyword, ast.Attribute, ast.Starred, ast.JoinedStr,
     ast.FormattedValue, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp,
     ast.comprehension, ast.operator, ast.unaryop, ast.boolop, ast.cmpop, ast.expr_context,
+    ast.Lambda, ast.arguments, ast.arg,
 )
-_NODE_WORDS = {ast.Lambda: "a lambda", ast.NamedExpr: "an assignment expression (:=)",
+_NODE_WORDS = {ast.NamedExpr: "an assignment expression (:=)",
                ast.Await: "await", ast.Yield: "yield", ast.YieldFrom: "yield from"}
 _PARSED: dict[str, ast.Expression] = {}
 _YAML_DATA: dict[str, object] = {}  # YAML text (without expressions) -> its data, checked
@@ -283,8 +315,11 @@ def _measure(value, budget: int, tick=None, work=False) -> int:
         if isinstance(item, dict):
             children = [*item.keys(), *item.values()]
             total += 2 + 4 * len(item)
-        elif isinstance(item, (list, tuple, set, frozenset)):
-            children = list.copy(item) if isinstance(item, list) else item  # YAML: as stored
+        elif isinstance(item, (list, tuple, set, frozenset, *_VIEWS)):
+            # a list as stored (YAML's wrapper), a set in a list: C code walks it, and
+            # the chunks below slice it
+            children = list.copy(item) if isinstance(item, list) else \
+                item if isinstance(item, tuple) else list(item)
             total += 2 + 2 * len(item)
         else:
             total += _scalar_size(item)
@@ -328,7 +363,7 @@ def _measure(value, budget: int, tick=None, work=False) -> int:
     return int(total)
 
 
-_FLAT = frozenset({str, int, float, bool, type(None)})
+_FLAT = frozenset({str, int, float, bool, type(None), complex})
 
 
 def _scalar_size(item) -> float:
@@ -397,7 +432,7 @@ class Interpreter:
         self._xacro = xacro
         self._yaml_dict, self._yaml_list = xacro.YamlDictWrapper, xacro.YamlListWrapper
         self._values = frozenset({*_SCALARS, list, tuple, dict, set, frozenset, range, slice,
-                                  *_OWN, self._yaml_dict, self._yaml_list})
+                                  *_VIEWS, *_OWN, self._yaml_dict, self._yaml_list})
         tables = _tables()
         self._by_id = _identity_map(xacro, tables)
         self._substitution_names = tables["substitution"]
@@ -410,7 +445,7 @@ class Interpreter:
             ast.Attribute: self._attribute, ast.JoinedStr: self._joinedstr,
             ast.FormattedValue: self._formatted, ast.ListComp: self._listcomp,
             ast.SetComp: self._setcomp, ast.DictComp: self._dictcomp,
-            ast.GeneratorExp: self._genexp, ast.Slice: self._slice,
+            ast.GeneratorExp: self._genexp, ast.Slice: self._slice, ast.Lambda: self._lambda,
         }
 
     # -- entry points --
@@ -499,7 +534,7 @@ class Interpreter:
                 raise LimitExceeded(f"an integer of more than {MAX_INT_BITS} bits")
             if bits > 64:
                 self.charge(bits >> 3)  # its bytes
-        elif kind in (str, list, tuple, dict, set, frozenset):
+        elif kind in (str, list, tuple, dict, set, frozenset) or kind in _VIEWS:
             size = len(value)
             if size > MAX_ITEMS:
                 raise LimitExceeded(f"a {kind.__name__} of {size} items (limit {MAX_ITEMS})")
@@ -544,8 +579,7 @@ class Interpreter:
         kind = type(value)
         if kind is Lazy:
             iterator = value.iterator
-        elif kind in (list, tuple, str, range, set, frozenset, dict, self._yaml_dict,
-                      self._yaml_list):
+        elif kind in _ITERABLE or kind in (self._yaml_dict, self._yaml_list):
             iterator = iter(value)
         else:
             raise TypeError(f"'{_typename(value)}' object is not iterable")
@@ -557,8 +591,7 @@ class Interpreter:
             yield item
 
     def items(self, value) -> list:
-        if type(value) in (list, tuple, range, str, set, frozenset, dict) \
-                and len(value) <= MAX_ITEMS:
+        if type(value) in _ITERABLE and len(value) <= MAX_ITEMS:
             self.tick()
             return self.made(list(value))  # C speed: the size is known first
         result = []
@@ -638,7 +671,7 @@ class Interpreter:
             if left and right > 0 and left.bit_length() + right > MAX_INT_BITS:
                 raise LimitExceeded(f"{left} << {right} is too large a number")
         elif op in (ast.BitOr, ast.BitAnd, ast.BitXor, ast.Sub) \
-                and isinstance(left, (set, frozenset, dict)):
+                and isinstance(left, (set, frozenset, dict, *_VIEWS)):
             self.bounded(left, right)
         return self.made(_BINOPS[op](left, right))
 
@@ -679,7 +712,7 @@ class Interpreter:
                 raise TypeError(f"'in <string>' requires string as left operand, not "
                                 f"{_typename(item)}")
             return item in container
-        if isinstance(container, (list, tuple, dict, set, frozenset, range)):
+        if isinstance(container, (list, tuple, dict, set, frozenset, range, *_VIEWS)):
             self.bounded(item, container)
             return item in container
         raise TypeError(f"argument of type '{_typename(container)}' is not iterable")
@@ -799,7 +832,65 @@ class Interpreter:
             return function.impl(self, list(args), kwargs)
         if type(function) is Method:
             return _call_method(self, function.receiver, function.name, list(args), kwargs)
+        if type(function) is Closure:
+            scope = self._parameters(function, list(args), kwargs)
+            saved, self._lookup = self._lookup, function.lookup
+            try:
+                return self.eval(function.node.body, scope)
+            finally:
+                self._lookup = saved
         raise TypeError(f"'{_typename(function)}' object is not callable")
+
+    def _lambda(self, node, scope):
+        spec = node.args
+        defaults = [self.eval(default, scope) for default in spec.defaults]
+        kw_defaults = [_REQUIRED if default is None else self.eval(default, scope)
+                       for default in spec.kw_defaults]
+        return Closure(node, scope, self._lookup, defaults, kw_defaults)
+
+    def _parameters(self, closure, args, kwargs) -> dict:
+        """The scope of a lambda's call: its parameters bound as Python binds them."""
+        spec = closure.node.args
+        positional = [a.arg for a in (*spec.posonlyargs, *spec.args)]
+        scope = dict(closure.scope)
+        bound = set()
+        for name, value in zip(positional, args):
+            scope[name] = value
+            bound.add(name)
+        extra = args[len(positional):]
+        if extra and spec.vararg is None:
+            raise TypeError(f"<lambda>() takes {len(positional)} positional arguments but "
+                            f"{len(args)} were given")
+        if spec.vararg is not None:
+            scope[spec.vararg.arg] = self.made(tuple(extra))
+        keywords = {a.arg: d for a, d in zip(spec.kwonlyargs, closure.kw_defaults)}
+        rest = {}
+        for name, value in kwargs.items():
+            if name in bound:
+                raise TypeError(f"<lambda>() got multiple values for argument '{name}'")
+            if name in positional[len(spec.posonlyargs):] or name in keywords:
+                scope[name] = value
+                bound.add(name)
+            elif spec.kwarg is not None:
+                rest[name] = value
+            else:
+                raise TypeError(f"<lambda>() got an unexpected keyword argument '{name}'")
+        first_default = len(positional) - len(closure.defaults)
+        for index, name in enumerate(positional):
+            if name not in bound:
+                if index < first_default:
+                    raise TypeError(f"<lambda>() missing required positional argument: "
+                                    f"'{name}'")
+                scope[name] = closure.defaults[index - first_default]
+        for name, default in keywords.items():
+            if name not in bound:
+                if default is _REQUIRED:
+                    raise TypeError(f"<lambda>() missing required keyword-only argument: "
+                                    f"'{name}'")
+                scope[name] = default
+        if spec.kwarg is not None:
+            scope[spec.kwarg.arg] = self.made(rest)
+        return scope
 
     # -- comprehensions --
 
@@ -830,15 +921,19 @@ class Interpreter:
             self._bind(element, item, scope)
 
     def _generate(self, generators, scope, first=None):
-        """The scopes a comprehension's ``for``/``if`` clauses produce, in order."""
+        """The scope of a comprehension, once per item its ``for``/``if`` clauses produce.
+        As Python's, one scope for the whole comprehension (its own: the enclosing one is
+        not changed), the first iterable evaluated outside it."""
+        iterable = first if first is not None else self.eval(generators[0].iter, scope)
+        return self._clauses(generators, dict(scope), iterable)
+
+    def _clauses(self, generators, inner, iterable):
         head, rest = generators[0], generators[1:]
-        iterable = first if first is not None else self.eval(head.iter, scope)
         for item in self.iterate(iterable):
-            inner = dict(scope)
             self._bind(head.target, item, inner)
             if all(self.eval(condition, inner) for condition in head.ifs):
                 if rest:
-                    yield from self._generate(rest, inner)
+                    yield from self._clauses(rest, inner, self.eval(rest[0].iter, inner))
                 else:
                     yield inner
 
@@ -869,7 +964,7 @@ class Interpreter:
 
     def _genexp(self, node, scope):
         first = self.eval(node.generators[0].iter, scope)  # as Python: evaluated at once
-        if not isinstance(first, (Lazy, list, tuple, str, range, set, frozenset, dict)):
+        if not isinstance(first, (Lazy, *_ITERABLE)):
             raise TypeError(f"'{_typename(first)}' object is not iterable")
         generated = self._generate(node.generators, scope, first)
         return Lazy((self.eval(node.elt, inner) for inner in generated), "generator")
@@ -904,6 +999,9 @@ class Interpreter:
             raise LimitExceeded("an integer too long to convert to a string")
         if kind in _SCALARS or kind in _OWN or kind in (range, slice):
             return repr(value) if use_repr else str(value)
+        if kind in _VIEWS:  # dict_keys([...]): its items measured as a list's
+            _measure(list(value), MAX_ITEMS, self.tick)
+            return self.made(repr(value))
         _measure(value, MAX_ITEMS, self.tick)
         return self.made(repr(value) if use_repr else str(value))
 
@@ -1135,7 +1233,7 @@ _COMPARE = {ast.Eq: operator.eq, ast.NotEq: operator.ne, ast.Lt: operator.lt,
 
 _STR_METHODS = frozenset([
     "capitalize", "casefold", "center", "count", "endswith", "expandtabs", "find", "format",
-    "index", "isalnum", "isalpha", "isascii", "isdecimal", "isdigit", "isidentifier", "islower",
+    "format_map", "index", "isalnum", "isalpha", "isascii", "isdecimal", "isdigit", "isidentifier", "islower",
     "isnumeric", "isprintable", "isspace", "istitle", "isupper", "join", "ljust", "lower",
     "lstrip", "maketrans", "partition", "removeprefix", "removesuffix", "replace", "rfind",
     "rindex", "rjust", "rpartition", "rsplit", "rstrip", "split", "splitlines", "startswith",
@@ -1146,7 +1244,9 @@ _DICT_METHODS = frozenset(["clear", "copy", "fromkeys", "get", "items", "keys", 
                            "setdefault", "update", "values"])
 _SET_READ = frozenset(["copy", "difference", "intersection", "isdisjoint", "issubset",
                        "issuperset", "symmetric_difference", "union"])
-_SET_METHODS = _SET_READ | {"add", "clear", "discard", "pop", "remove", "update"}
+_SET_METHODS = _SET_READ | {"add", "clear", "discard", "pop", "remove", "update",
+                            "difference_update", "intersection_update",
+                            "symmetric_difference_update"}
 _NUMBER_METHODS = frozenset(["conjugate", "bit_length", "bit_count", "is_integer",
                              "as_integer_ratio", "hex"])
 _METHODS = {str: _STR_METHODS, list: _LIST_METHODS, tuple: frozenset({"count", "index"}),
@@ -1154,10 +1254,12 @@ _METHODS = {str: _STR_METHODS, list: _LIST_METHODS, tuple: frozenset({"count", "
             int: _NUMBER_METHODS - {"is_integer", "hex"}, bool: _NUMBER_METHODS - {"is_integer",
                                                                                  "hex"},
             float: frozenset(["conjugate", "is_integer", "as_integer_ratio", "hex"]),
-            range: frozenset({"count", "index"})}
+            range: frozenset({"count", "index"}), complex: frozenset(["conjugate"]),
+            _VIEWS[0]: frozenset(["isdisjoint"]), _VIEWS[2]: frozenset(["isdisjoint"])}
 _PROPERTIES = {int: ("real", "imag", "numerator", "denominator"),
                bool: ("real", "imag", "numerator", "denominator"), float: ("real", "imag"),
-               range: ("start", "stop", "step"), slice: ("start", "stop", "step")}
+               range: ("start", "stop", "step"), slice: ("start", "stop", "step"),
+               complex: ("real", "imag")}
 _PADDING = frozenset({"center", "ljust", "rjust", "zfill"})
 
 
@@ -1185,14 +1287,18 @@ def _call_method(it, obj, name, args, kwargs):
         return _dict_method(it, obj, name, args, kwargs)
     if kwargs:
         raise TypeError(f"{name}() takes no keyword arguments")
-    if kind in (set, frozenset):
-        many = name in ("union", "intersection", "difference", "symmetric_difference", "update")
+    if kind in (set, frozenset) or kind in _VIEWS:
+        many = name in ("union", "intersection", "difference", "update", "difference_update",
+                        "intersection_update")
         _arity(f"set.{name}", args, kwargs, 0, MAX_ITEMS if many else 1)
-        if many or name in ("isdisjoint", "issubset", "issuperset"):
+        if many or name in ("isdisjoint", "issubset", "issuperset", "symmetric_difference",
+                            "symmetric_difference_update"):
             args = [a if isinstance(a, (set, frozenset)) else it.items(a) for a in args]
         it.bounded(obj, *args)
-        if name in ("union", "symmetric_difference", "update", "add"):
-            it.grows(len(obj) + sum(len(a) for a in args) if many else len(obj) + 1)
+        if name in ("union", "update"):
+            it.grows(len(obj) + sum(len(a) for a in args))
+        elif name in ("symmetric_difference", "symmetric_difference_update", "add"):
+            it.grows(len(obj) + (len(args[0]) if args and name != "add" else 1))
         return it.made(getattr(obj, name)(*args))
     if kind in (tuple, range):
         it.bounded(obj, *args)
@@ -1204,6 +1310,12 @@ def _call_method(it, obj, name, args, kwargs):
 def _str_method(it, text, name, args, kwargs):
     if name == "format":
         return it.format(text, args, kwargs)
+    if name == "format_map":
+        _arity("str.format_map", args, kwargs, 1, 1)
+        if not isinstance(args[0], dict):
+            raise TypeError(f"str.format_map() takes a dict here, not "
+                            f"{_typename(args[0])}")
+        return it.format(text, (), args[0])
     if name == "join":
         _arity("str.join", args, kwargs, 1, 1)
         pieces, size = [], 0
@@ -1288,7 +1400,7 @@ def _list_method(it, items, name, args, kwargs):
 def _dict_method(it, mapping, name, args, kwargs):
     if name in ("keys", "values", "items"):
         _arity(f"dict.{name}", args, kwargs, 0, 0)
-        return it.made(list(getattr(dict, name)(mapping)))
+        return it.made(getattr(dict, name)(mapping))  # Python's view
     if name == "fromkeys":
         return _fromkeys(it, args, kwargs)
     if name == "update":
@@ -1447,7 +1559,7 @@ def _enumerate(it, args, kwargs):
 def _reversed(it, args, kwargs):
     _arity("reversed", args, kwargs, 1, 1)
     value = args[0]
-    if not isinstance(value, (list, tuple, str, range, dict)):
+    if not isinstance(value, (list, tuple, str, range, dict, *_VIEWS)):
         raise TypeError(f"'{_typename(value)}' object is not reversible")
     return it._ticking(reversed(value))
 
@@ -1552,7 +1664,7 @@ def _hash(it, args, kwargs):
 def _len(it, args, kwargs):
     _arity("len", args, kwargs, 1, 1)
     value = args[0]
-    if isinstance(value, (str, list, tuple, dict, set, frozenset, range)):
+    if isinstance(value, (str, list, tuple, dict, set, frozenset, range, *_VIEWS)):
         return len(value)
     raise TypeError(f"object of type '{_typename(value)}' has no len()")
 
@@ -1761,11 +1873,44 @@ def _arg(it, args, kwargs):
     return it.admit(it._xacro.substitution_args_context["arg"][args[0]])
 
 
+def _complex(it, args, kwargs):
+    _arity("complex", args, kwargs, 0, 2, ("real", "imag"))
+    _scalars("complex", [*args, *kwargs.values()])
+    if args and type(args[0]) is str and len(args[0]) > 5000:
+        raise LimitExceeded("a number of more than 5000 characters")
+    return complex(*args, **kwargs)
+
+
+def _type(it, args, kwargs):
+    """``python.type(value)``: the type-like function of the table (``python.type(1) is
+    python.int``); the three-argument form (which builds a class) is refused."""
+    if len(args) == 3 or kwargs:
+        raise _unsafe("python.type(name, bases, dict) builds classes; urdftool's interpreter "
+                      "does not offer it")
+    _arity("type", args, kwargs, 1, 1)
+    kind = type(args[0])
+    function = _TYPES.get(kind)
+    if function is None:
+        if isinstance(args[0], _OWN):
+            raise _unsafe(f"python.type() of a {_typename(args[0])} is not available in "
+                          "expressions")
+        # NoneType, a dict view, YAML data: compared and printed, never called
+        name = kind.__name__ if kind.__module__ == "builtins" else \
+            f"{kind.__module__}.{kind.__qualname__}"
+        function = _TYPES[kind] = Function(name, _uncallable(name), kind)
+    return function
+
+
+def _uncallable(name):
+    def impl(it, args, kwargs):
+        raise _unsafe(f"calling the type {name} is not available in expressions")
+    return impl
+
+
 _TABLES: dict | None = None
-_REFUSED = {"type": "python.type builds classes; urdftool's interpreter does not offer it",
-            "vars": "python.vars exposes objects' internals; urdftool's interpreter does not "
-                    "offer it",
-            "complex": "complex numbers are not supported"}
+_TYPES: dict = {}  # Python type -> its type-like Function of the table
+_REFUSED = {"vars": "python.vars exposes objects' internals; urdftool's interpreter does not "
+                    "offer it"}
 
 
 def _tables() -> dict:
@@ -1785,6 +1930,7 @@ def _tables() -> dict:
                                                      _to_float(it, a[0]) if a else 0.0)[-1],
                           float),
         "bool": Function("bool", _bool, bool),
+        "complex": Function("complex", _complex, complex), "type": Function("type", _type),
         "len": Function("len", _len), "map": Function("map", _lazy("map", _map)),
         "filter": Function("filter", _lazy("filter", _filter)),
         "zip": Function("zip", _lazy("zip", _zip)),
@@ -1795,7 +1941,7 @@ def _tables() -> dict:
             _sorted(it, a[0], k.get("key"), k.get("reverse", False)))[-1]),
         "min": Function("min", _extreme(min)), "max": Function("max", _extreme(max)),
         "sum": Function("sum", _sum), "all": Function("all", _all_any(True)),
-        "any": Function("any", _all_any(False)), "range": Function("range", _range),
+        "any": Function("any", _all_any(False)), "range": Function("range", _range, range),
         "round": Function("round", _round), "abs": Function("abs", _plain("abs", abs, 1, 1)),
         "divmod": Function("divmod", _plain("divmod", divmod, 2, 2)),
         "ord": Function("ord", _plain("ord", ord, 1, 1)), "hash": Function("hash", _hash),
@@ -1803,10 +1949,12 @@ def _tables() -> dict:
                                                    it.to_str(a[0], use_repr=True))[-1]),
         "isinstance": Function("isinstance", _isinstance),
         "issubclass": Function("issubclass", _issubclass),
-        "slice": Function("slice", _slice_function),
+        "slice": Function("slice", _slice_function, slice),
         "True": True, "False": False,
     }
     python.update({name: _Refused(reason) for name, reason in _REFUSED.items()})
+    _TYPES.update((entry.pytype, entry) for entry in python.values()
+                  if type(entry) is Function and entry.pytype is not None)
     math_entries = _math_entries()
     xacro_entries = {
         "load_yaml": Function("load_yaml", _load_yaml),
