@@ -10,7 +10,8 @@ import json
 import pytest
 from conftest import run_urdftool
 
-FORMATS = ("text", "json", "sarif", "github")
+from urdftool.cli.check import FORMATS  # every format of check (one registry, issue 33)
+
 LIMIT = 1 << 20
 
 
@@ -101,6 +102,20 @@ def test_extra_outputs_are_the_formats(write, tmp_path):
         alone = run_urdftool("check", "--format", fmt, str(path))
         assert alone.code == 1 and alone.out, (fmt, alone.err)
         assert target.read_text(encoding="utf-8") == alone.out, fmt
+        assert run_urdftool("check", "--output-format", fmt, str(path)).out == alone.out, fmt
+
+
+def test_every_format_is_offered_by_every_option():
+    """One registry (issue 33): `--extra-output junit:FILE` was refused while `--format junit`
+    worked (issue 29). Each format is in --format's choices and --extra-output's help, and
+    --extra-output refuses a name that is no format, naming them all."""
+    assert {"text", "json", "sarif", "github", "junit"} <= set(FORMATS)
+    helped = run_urdftool("check", "--help").out
+    listed = " ".join(helped.split())
+    assert "[" + "|".join(FORMATS) + "]" in listed
+    assert "FORMAT (" + ", ".join(FORMATS) + ")" in listed
+    refused = run_urdftool("check", "--extra-output", "yaml:out.yaml", ".")
+    assert refused.code == 2 and all(fmt in refused.err for fmt in FORMATS), refused.err
 
 
 def test_a_quoted_line_is_a_window_around_the_column(write):

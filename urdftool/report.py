@@ -550,25 +550,29 @@ def render_text(report: Report, show_info: bool = False, colour: bool = False,
 
 
 def format_junit(report: Report, testname: str = "urdftool", strict: bool = False,
-                 elapsed: float = 0.0) -> str:
+                 elapsed: float = 0.0, per_rule: int | None = MACHINE_PER_RULE) -> str:
     """JUnit/xunit XML (``colcon test-result``, CI test views; issue 23): one testsuite, one
     testcase per checked file (``ament_xmllint``'s layout: ``name`` the file, ``classname``
     the test name). A file with findings that fail the run (errors; warnings too with
     ``strict``) is a failure whose text lists them as ``path:line:col: severity rule:
     message``; the other findings are the testcase's ``system-out``. File content is escaped
-    (``display.clean``): no control character reaches the XML."""
+    (``display.clean``): no control character reaches the XML. As JSON: at most ``per_rule``
+    findings of one rule in one file (the rest counted), messages clipped."""
     from xml.sax.saxutils import escape, quoteattr
 
-    from urdftool.display import clean, diagnostic_line
+    from urdftool.display import clean, clip, diagnostic_line
 
     failing = ("error", "warning") if strict else ("error",)
     cases, failures = [], 0
     for file in report.files:
+        listed, omitted = capped(file.diagnostics, per_rule)
         lines = [(d.severity in failing,  # (it cleans the path and the message)
-                  diagnostic_line(d.path, d.line, d.column, d.severity, d.rule, d.message))
-                 for d in file.diagnostics]
+                  diagnostic_line(d.path, d.line, d.column, d.severity, d.rule, clip(d.message)))
+                 for d in listed]
         bad = [line for fails, line in lines if fails]
         rest = [line for fails, line in lines if not fails]
+        rest += [f"{count} more {rule} finding(s) not listed (at most {per_rule} per rule and "
+                 "file; --format json counts them too)" for rule, count in omitted.items()]
         case = f'  <testcase name={quoteattr(clean(file.path))} classname={quoteattr(testname)}'
         if not bad and not rest:
             cases.append(case + "/>")

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Callable
 from pathlib import Path
+from typing import NamedTuple
 
 import click
 
@@ -20,9 +22,58 @@ from urdftool.cli import (
 )
 
 
+# -- the report formats: --format/--output-format and --extra-output FORMAT:FILE read this one
+# table (issue 33: a format added here works in all three). name -> (render, shows_edits):
+# render(report, how) -> the text; shows_edits: the format carries the edits of unsafe fixes
+# (text and GitHub annotations show a fix's hint only: those edits are not derived for them).
+class _How(NamedTuple):
+    show_info: bool
+    colour: bool
+    quiet: bool
+    annotate: set[str] | None  # github: annotate only these files (see format_github)
+    strict: bool  # junit: warnings are failures too
+
+
+def _text(report, how: _How) -> str:
+    from urdftool.report import render_text
+
+    return render_text(report, show_info=how.show_info, colour=how.colour, summary=not how.quiet)
+
+
+def _json(report, how: _How) -> str:
+    from urdftool.report import format_json
+
+    return format_json(report) + "\n"
+
+
+def _sarif(report, how: _How) -> str:
+    from urdftool.report import format_sarif
+    from urdftool.rules import load_all
+
+    return format_sarif(report, load_all()) + "\n"
+
+
+def _github(report, how: _How) -> str:
+    from urdftool.report import format_github
+
+    text = format_github(report, how.annotate)
+    return text + ("\n" if text else "")
+
+
+def _junit(report, how: _How) -> str:
+    from urdftool.report import format_junit
+
+    return format_junit(report, strict=how.strict) + "\n"
+
+
+FORMATS: dict[str, tuple[Callable[[object, _How], str], bool]] = {
+    "text": (_text, False), "json": (_json, True), "sarif": (_sarif, True),
+    "github": (_github, False), "junit": (_junit, False)}
+
+
 @click.command("check", cls=PathsCommand)
 @click.argument("inputs", nargs=-1, metavar="[PATH...] [NAME:=VALUE...]")
-@format_option("text", "json", "sarif", "github", "junit")
+@format_option(*FORMATS)
 @color_option
 @click.option("--config", "config_file", type=click.Path(dir_okay=False), metavar="FILE",
               help="The configuration (urdftool.toml, or a pyproject.toml's [tool.urdftool]) "
@@ -50,7 +101,7 @@ from urdftool.cli import (
 @click.option("--output-file", type=click.Path(dir_okay=False), metavar="FILE",
               help="Write the report to FILE, also with --fix.")
 @click.option("--extra-output", "extra_outputs", multiple=True, metavar="FORMAT:FILE",
-              help="Also write the report in FORMAT (json, sarif, github, text) to FILE, from "
+              help=f"Also write the report in FORMAT ({', '.join(FORMATS)}) to FILE, from "
                    "the same run (e.g. --format github --extra-output sarif:urdftool.sarif). "
                    "Repeatable.")
 @click.option("--show-info", is_flag=True,
@@ -137,8 +188,9 @@ def command(ctx, inputs, fmt, config_file, packages, strict, select, ignore, fix
     options.load.sdf_model_paths = list(model_paths)
     options.jobs = jobs
     # text and GitHub annotations show a fix's hint, not its edits
-    options.unsafe_edits = bool(fix or diff) or (fmt in ("json", "sarif") and not statistics) \
-        or any(value.split(":", 1)[0] in ("json", "sarif") for value in extra_outputs)
+    shows_edits = [FORMATS[fmt][1] and not statistics] + [
+        FORMATS.get(value.split(":", 1)[0], (None, False))[1] for value in extra_outputs]
+    options.unsafe_edits = bool(fix or diff) or any(shows_edits)
     from urdftool.package import Selection
 
     options.selection = Selection(split(exclude) if exclude else None, split(extend_exclude),
@@ -196,27 +248,25 @@ def command(ctx, inputs, fmt, config_file, packages, strict, select, ignore, fix
     colour = fmt == "text" and report_to in (None, "-") and _colour(sys.stdout)
     # changed files (a pull request's): GitHub annotations only on them, the rest in the log
     annotate = {os.path.realpath(p) for p in paths} if changed else None
+    strict = strict if strict is not None else config.strict
     if statistics:
         text = format_statistics(report, fmt == "json", load_all())
         if fmt == "text" and not quiet:
             text += ("\n" if text else "") + summary_line(report, True, colour)
         text += "\n" if text else ""
     else:
-        text = _rendered(report, fmt, show_info, colour,  # changed files no check reads:
-                         quiet or (changed and not report.files), annotate,  # silent
-                         strict if strict is not None else config.strict)
+        text = FORMATS[fmt][0](report, _How(show_info, colour,  # changed files no check reads:
+                                            quiet or (changed and not report.files),  # silent
+                                            annotate, strict))
     for target in targets:  # once more: the baseline compared with was read since
         check_target(target, paths)
     for extra_fmt, target in extras:
-        _write(_rendered(report, extra_fmt, show_info, False, quiet, annotate,
-                         strict if strict is not None else config.strict), target, paths)
+        _write(FORMATS[extra_fmt][0](report, _How(show_info, False, quiet, annotate, strict)),
+               target, paths)
     _write(text, report_to, paths)
     if exit_zero:
         ctx.exit(0)
-    ctx.exit(report.exit_code(strict if strict is not None else config.strict))
-
-
-FORMATS = ("text", "json", "sarif", "github")
+    ctx.exit(report.exit_code(strict))
 
 
 def _extra_outputs(values) -> list[tuple[str, str]]:
@@ -231,34 +281,6 @@ def _extra_outputs(values) -> list[tuple[str, str]]:
                             f"{', '.join(FORMATS)}, got {value!r}")
         extras.append((fmt, target))
     return extras
-
-
-def _rendered(report, fmt: str, show_info: bool, colour: bool, quiet: bool,
-              annotate: set[str] | None = None, strict: bool = False) -> str:
-    """The report in ``fmt`` (github: ``annotate`` only those files, see ``format_github``;
-    junit: ``strict`` makes warnings failures too)."""
-    from urdftool.rules import load_all
-
-    if fmt == "json":
-        from urdftool.report import format_json
-
-        return format_json(report) + "\n"
-    if fmt == "sarif":
-        from urdftool.report import format_sarif
-
-        return format_sarif(report, load_all()) + "\n"
-    if fmt == "junit":
-        from urdftool.report import format_junit
-
-        return format_junit(report, strict=strict) + "\n"
-    if fmt == "github":
-        from urdftool.report import format_github
-
-        text = format_github(report, annotate)
-        return text + ("\n" if text else "")
-    from urdftool.report import render_text
-
-    return render_text(report, show_info=show_info, colour=colour, summary=not quiet)
 
 
 def _run(paths, options, fmt: str, report_to: str | None, quiet: bool, extras=()):
