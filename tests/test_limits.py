@@ -10,9 +10,10 @@ from pathlib import Path
 import pytest
 from conftest import run_urdftool
 
-from urdftool.limits import composed, image, limits_data, mimic_chain, mimic_image
+from urdftool.limits import limits_data
 from urdftool.loader import load
 from urdftool.model import build_robot
+from urdftool.ranges import composed, image, mimic_chain, mimic_image
 
 ROOT = Path(__file__).resolve().parent.parent
 OPEN_MANIPULATOR = ROOT / "robots" / "open_manipulator"

@@ -1,6 +1,6 @@
 """Fuzzing: mutate real robot descriptions and run the commands on them.
 
-``python -m urdftool.cli.fuzz --cases N`` (or ``--minutes M``) takes the seed robots
+``python -m urdftool.fuzz --cases N`` (or ``--minutes M``) takes the seed robots
 (``robots/*/{published,corrected}``, the tests' xacro corpus, pybullet_data URDFs), applies 1-4
 random mutations to one (delete, duplicate or swap text, truncate, break tags, insert attributes,
 put NaN/huge numbers in, nest elements thousands deep, garble xacro expressions...) and runs
@@ -13,6 +13,7 @@ are saved; the summary gives the number of cases, the crashes and the slowest ca
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import io
 import json
@@ -21,6 +22,7 @@ import random
 import re
 import shutil
 import signal
+import sys
 import tempfile
 import time
 from dataclasses import dataclass, field
@@ -439,3 +441,41 @@ def campaign(cases: int, seed: int = 0, out_dir: Path | None = None,
     finally:
         workspace.cleanup()
     return summary, out_dir
+
+
+# -- the command line: python -m urdftool.fuzz (make fuzz); a developer's tool, not a command --
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m urdftool.fuzz",
+                                     description=__doc__.split("\n\n")[0])
+    parser.add_argument("--cases", type=int, default=1000, help="how many mutated cases")
+    parser.add_argument("--minutes", type=float, default=None,
+                        help="stop after this long even if --cases are not all run")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (reproducible runs)")
+    parser.add_argument("--out", type=Path, default=None, help="where crash reproducers go")
+    parser.add_argument("--time-bound", type=float, default=TIME_BOUND,
+                        help="seconds one command may take on one case")
+    options = parser.parse_args(argv)
+    started = time.monotonic()
+
+    def progress(summary: Summary) -> None:
+        print(f"  {summary.cases} cases, {len(summary.crashes)} crashes, "
+              f"{time.monotonic() - started:.0f} s", file=sys.stderr, flush=True)
+
+    summary, out_dir = campaign(options.cases, options.seed, options.out, options.time_bound,
+                           progress, options.minutes)
+    elapsed = time.monotonic() - started
+    print(f"fuzz: {summary.cases} cases ({summary.runs} command runs) in {elapsed:.0f} s")
+    print(f"crashes: {len(summary.crashes)}")
+    for crash in summary.crashes[:50]:
+        print(f"  case {crash['case']}: {crash['command']} on {Path(crash['seed']).name} "
+              f"[{', '.join(crash['mutations'])}]: {crash['problem'][:200]}\n"
+              f"    reproducer: {crash['reproducer']}")
+    if summary.crashes:
+        print(f"reproducers in {out_dir}")
+    print(f"slowest: {summary.slowest[0]:.2f} s ({summary.slowest[1]})")
+    return 1 if summary.crashes else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

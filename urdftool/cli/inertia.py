@@ -1,6 +1,6 @@
 """`urdftool inertia FILE [--link L] [--density RHO]`: declared vs geometry-derived inertia per
 link, the findings of the `inertia` and `mesh` rules, and a corrected `<inertial>` block for
-each flagged link (``urdftool.physics.summary`` computes it)."""
+each flagged link (``urdftool.inertia_table`` computes it)."""
 
 from __future__ import annotations
 
@@ -70,7 +70,7 @@ def command(inputs, link, density, fmt, packages, no_cache):
     """
     from urdftool import cache
     from urdftool.errors import ToolError
-    from urdftool.physics.summary import inertia_data
+    from urdftool.inertia_table import inertia_data
 
     cache.ENABLED = not no_cache
     paths, xacro_args = split_args(inputs)

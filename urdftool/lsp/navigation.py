@@ -5,7 +5,7 @@ Two sources, neither of them a second reading of any file:
 - the robots of the last check (``engine.Result.checks``): the expanded elements indexed by
   where they were written (``Source.loc``), so a tag under the cursor, in a macro body too, is
   found with its value in every instance: a link's mass, declared inertia and the bound its
-  geometry allows (``physics.summary.inertia_data``, the ``inertia`` command's table), a joint's
+  geometry allows (``inertia_table.inertia_data``, the ``inertia`` command's table), a joint's
   limits and mimic image (``limits.mimic_image``), an attribute's expanded value;
 - the texts the check read (and the open buffers), scanned for xacro definitions: macros and
   their parameters, properties, arguments, includes.
@@ -255,7 +255,7 @@ def link_hover(robot, name: str) -> str | None:
     link = robot.link(name)
     if link is None:
         return None
-    from urdftool.physics.summary import inertia_data
+    from urdftool.inertia_table import inertia_data
 
     lines = [f"**link** `{name}`"]
     try:
@@ -300,7 +300,7 @@ def joint_hover(robot, name: str) -> str | None:
         lines.append(f"limits: lower {_number(limit.lower)}, upper {_number(limit.upper)}, "
                      f"effort {_number(limit.effort)}, velocity {_number(limit.velocity)}")
     if joint.mimic is not None:
-        from urdftool.limits import mimic_image
+        from urdftool.ranges import mimic_image
 
         mimic = joint.mimic
         lines.append(f"mimics `{mimic.joint}`: multiplier {_number(mimic.multiplier)}, "

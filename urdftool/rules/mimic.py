@@ -1,6 +1,6 @@
 """Rules of the `mimic` family: a mimic joint's leader exists, is not itself, is not part of a
 cycle or a chain, and — the one that bites — drives the follower only through positions its own
-limits allow (``urdftool.limits`` has the interval arithmetic).
+limits allow (``urdftool.ranges`` has the interval arithmetic).
 
 A follower is driven to ``multiplier * q_leader + offset``. MoveIt, ros2_control's mimic joints
 and Gazebo's mimic plugins apply exactly that, so a leader range whose image leaves the
@@ -11,8 +11,8 @@ planners reject the state).
 from __future__ import annotations
 
 from urdftool.findings import Finding
-from urdftool.limits import composed, mimic_chain, mimic_image, tolerance
 from urdftool.model import Robot
+from urdftool.ranges import composed, mimic_chain, mimic_image, tolerance
 from urdftool.rules import rename_edits, rule, value_edits
 from urdftool.rules.joint import fmt, label
 

@@ -1,4 +1,4 @@
-"""The data of ``urdftool inertia``: per link, the declared inertial, what the geometry gives,
+"""The ``urdftool inertia`` table: per link, the declared inertial, what the geometry gives,
 their comparison, the findings of the `inertia` and `mesh` rules, and a corrected
 ``<inertial>`` for flagged links. Plain dicts and floats (JSON keeps full precision)."""
 
