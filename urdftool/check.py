@@ -439,10 +439,10 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
 
     started = time.monotonic()
     options = copy.copy(options or CheckOptions())
-    # what the run may read, once, from the operator's options and the paths given: before
-    # any configuration is read (its packages and entries are clamped inside the repository)
+    # what the run may read, once, from the operator's options and the paths given (changed
+    # files are data: the working directory's repository): before any configuration is read
     options.load = copy.copy(options.load)
-    options.load.roots = run_roots(paths, options.load)
+    options.load.roots = run_roots(paths, options.load, named=options.changed)
     selection = options.selection if options.selection is not None else Selection()
     files, given = plan(paths, options.changed, selection, options.config_file)
     files = with_operator_args(files, options.load.xacro_args)

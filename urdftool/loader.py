@@ -27,8 +27,11 @@ from urdftool.roots import (
     PATH_VARIABLES,
     Roots,
     forget_resolved,
+    own_repository,
+    real,
     repository_for,
     resolved,
+    tracked,
 )
 from urdftool.source import LoadOptions, Source, detect_kind, find_unread, parse_text, read_input
 
@@ -56,34 +59,80 @@ def model_paths(options: LoadOptions | None, environ=None) -> list[str]:
     return found
 
 
-def run_roots(paths, options: LoadOptions | None = None, environ=None) -> Roots:
-    """The roots of a run over ``paths`` (the files and directories the operator gave),
-    memoised per process. ``options.packages`` must be the operator's (-P), not a
-    configuration's: call this before the configuration is merged (``check.check_paths``)."""
+def run_roots(paths, options: LoadOptions | None = None, environ=None, *, named: bool = False,
+              workspace=None) -> Roots:
+    """The roots of a run, memoised per process: the operator's directories (``-P``,
+    ``--model-path``, the path variables) and one of
+
+    - ``workspace`` (the editor's workspace folder): that folder, nothing above it;
+    - ``named`` (``paths`` are named by a change: ``check --changed``, the hook's files, the
+      Action's changed files): the working directory's repository (``working_root``); the
+      paths are data and decide nothing, whatever they are (a link to another checkout);
+    - else the repository of each path the operator typed (``typed_root``).
+
+    ``options.packages`` must be the operator's (-P), not a configuration's: call this before
+    the configuration is merged (``check.check_paths``). Nothing read later widens them."""
     forget_resolved()  # a run starts: realpaths are asked again, changed meshes read again
     if "urdftool.physics.meshes" in sys.modules:  # (a run that read no mesh never imports it)
         sys.modules["urdftool.physics.meshes"].forget_changed()
     environ = os.environ if environ is None else environ
     operator = operator_paths(options, environ)
-    key = (tuple(os.path.abspath(os.fspath(p)) for p in paths), tuple(operator))
+    here = os.getcwd()
+    key = ("workspace", os.path.abspath(workspace)) if workspace is not None else \
+        ("named", here) if named else \
+        ("typed", here, tuple(os.path.abspath(os.fspath(p)) for p in paths))
+    key = (*key, tuple(operator))
     roots = _ROOTS.get(key)
     if roots is None:
-        roots = _ROOTS[key] = Roots(_repositories(paths), [*operator, EXAMPLES])
+        if workspace is not None:
+            repositories = [workspace]
+        elif named:
+            repositories = [working_root(here)]
+        else:
+            repositories = _repositories(paths, own_repository(here))
+        roots = _ROOTS[key] = Roots(repositories, [*operator, EXAMPLES])
     return roots
 
 
-def _repositories(paths) -> list:
-    """``repository_for`` of each path, asked once per directory for the files of one
-    directory (a file's repository is its directory's: a thousand files of one folder walked
-    the same parents a thousand times)."""
+def working_root(here: str) -> Path:
+    """The root of a run in ``here`` (the working directory) whose paths decide nothing: its
+    repository, or ``here`` itself outside any (or inside a work tree that does not hold it:
+    a checkout without its own metadata)."""
+    return own_repository(here) or Path(here)
+
+
+def typed_root(path, working: Path | None) -> Path | None:
+    """The root a path the operator typed gives, ``working`` being the working directory's
+    repository. Its directory (a file's, or a link's: a link decides nothing) is
+
+    - inside the working directory's repository (as written): that repository when it holds
+      the directory (``roots.tracked``), else the directory itself (a checkout without
+      metadata in it), or nothing when a link on the way leads elsewhere (repository content);
+    - elsewhere: its own repository, the directory given, a file's package or its directory
+      (``roots.repository_for``), version-control roots looked for without following links."""
+    absolute = os.path.abspath(os.fspath(path))
+    link = os.path.islink(absolute)
+    directory = absolute if os.path.isdir(absolute) and not link else os.path.dirname(absolute)
+    if working is not None and (directory == str(working)
+                                or directory.startswith(str(working) + os.sep)):
+        if tracked(working, Path(directory)):
+            return working
+        return Path(directory) if real(directory) == directory else None
+    return repository_for(directory if link and os.path.isdir(absolute) else absolute)
+
+
+def _repositories(paths, working: Path | None) -> list:
+    """``typed_root`` of each path, asked once per directory for the files of one directory
+    (a thousand files of one folder walked the same parents a thousand times)."""
     found: dict[str, object] = {}
     repositories = []
     for path in paths:
         absolute = os.path.abspath(os.fspath(path))
         key = absolute if os.path.isdir(absolute) else os.path.dirname(absolute)
         if key not in found:
-            found[key] = repository_for(absolute)
-        repositories.append(found[key])
+            found[key] = typed_root(absolute, working)
+        if found[key] is not None:
+            repositories.append(found[key])
     return repositories
 
 

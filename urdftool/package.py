@@ -397,7 +397,8 @@ def plan(paths: list[str], changed: bool = False, selection: Selection | None = 
 
     for raw in paths:
         path = Path(raw)
-        if path.is_dir():
+        # (a changed name that is a link to a directory is data: never walked)
+        if path.is_dir() and not (given is not None and path.is_symlink()):
             selection.walked = True
             files.extend(walk(path))
         elif path.exists() or path.is_symlink():  # a dangling link: the loader answers

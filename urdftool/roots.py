@@ -41,6 +41,7 @@ _RESOLVED: dict[str, str] = {}  # absolute path as given -> its realpath, during
 _READABLE: dict[tuple, bool] = {}  # (roots, path as given) -> Roots.readable, during one run
 _REPOSITORIES: dict[str, Path | None] = {}  # absolute directory -> repository_of, during one run
 _FILES: dict[str, bool] = {}  # absolute path as given -> is_file, during one run
+_TRACKED: dict[tuple[str, str], bool] = {}  # (top, relative directory) -> tracked, one run
 
 
 def forget_resolved() -> None:
@@ -50,6 +51,7 @@ def forget_resolved() -> None:
     _READABLE.clear()
     _REPOSITORIES.clear()
     _FILES.clear()
+    _TRACKED.clear()
 
 
 def resolved(path) -> str:
@@ -133,8 +135,9 @@ def has_vcs_component(path: Path, root: Path) -> bool:
 
 def repository_of(path) -> Path | None:
     """The version-control root above ``path`` (as given: a link's own place, not its
-    target), resolved; None outside any. Each directory is looked at once a run (the files
-    of a tree share their parents)."""
+    target), resolved; None outside any. A directory that is a symbolic link is never a
+    repository (a committed link to another checkout decides nothing). Each directory is looked
+    at once a run (the files of a tree share their parents)."""
     start = os.path.abspath(os.fspath(path))
     walked = []
     directory, found = start, None
@@ -143,7 +146,8 @@ def repository_of(path) -> Path | None:
             found = _REPOSITORIES[directory]
             break
         walked.append(directory)
-        if any(os.path.lexists(os.path.join(directory, name)) for name in VCS_DIRS):
+        if not os.path.islink(directory) and any(
+                os.path.lexists(os.path.join(directory, name)) for name in VCS_DIRS):
             found = _root(directory)
             break
         parent = os.path.dirname(directory)
@@ -155,20 +159,118 @@ def repository_of(path) -> Path | None:
     return found
 
 
+MAX_INDEX_BYTES = 1 << 30  # a git index larger than this: nothing below the top is known
+
+
+def tracked(top: Path, directory: Path) -> bool:
+    """Whether the repository at ``top`` holds files below ``directory`` (resolved, below
+    ``top``): a subdirectory of a work tree, not a checkout without metadata of its own
+    unpacked inside it (a tarball in a home directory under git, a copy in a monorepo). Git:
+    an entry of its index names a file below it (index versions 2 and 3; version 4 and an
+    index that cannot be read: not known, False). Mercurial and Subversion: True (their
+    metadata is not read)."""
+    try:
+        relative = Path(directory).relative_to(top).as_posix()
+    except ValueError:
+        return False
+    if relative == ".":
+        return True
+    git = Path(top) / ".git"
+    if not os.path.lexists(git):
+        return True
+    key = (os.fspath(top), relative)
+    found = _TRACKED.get(key)
+    if found is None:
+        found = _TRACKED[key] = _in_git_index(_git_dir(git), relative.encode() + b"/")
+    return found
+
+
+
+def _git_dir(git: Path) -> Path:
+    """The git directory of a ``.git`` entry (a worktree's or submodule's ``.git`` file says
+    ``gitdir: PATH``)."""
+    if os.path.isdir(git):
+        return git
+    try:
+        with open(git, "rb") as stream:
+            line = stream.read(4096).split(b"\n", 1)[0].decode("utf-8", "replace")
+    except OSError:
+        return git
+    if line.startswith("gitdir:"):
+        return (git.parent / line[len("gitdir:"):].strip()).resolve()
+    return git
+
+
+def _in_git_index(git_dir: Path, prefix: bytes) -> bool:
+    """Whether an entry's name in ``git_dir/index`` starts with ``prefix``. The name of an
+    entry follows its 16-bit flags, whose low 12 bits are the name's length (0xFFF: longer):
+    a match is kept only where they agree, so a name that merely contains ``prefix`` does
+    not count (version 3: an entry with the extended bit has 16 more bits of flags before its
+    name)."""
+    try:
+        fd = os.open(git_dir / "index", os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
+    except FileNotFoundError:  # a new repository: nothing added yet
+        return True
+    except OSError:
+        return False
+    try:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode) or info.st_size > MAX_INDEX_BYTES:
+            return False
+        with open(fd, "rb", closefd=False) as stream:
+            data = stream.read()
+    finally:
+        os.close(fd)
+    if data[:4] != b"DIRC" or int.from_bytes(data[4:8], "big") not in (2, 3):
+        return False
+    at = data.find(prefix, 12)
+    while at != -1:
+        end = data.find(b"\0", at)
+        wanted = min(end - at, 0xFFF)
+        flags = int.from_bytes(data[at - 2:at], "big")
+        extended = int.from_bytes(data[at - 4:at - 2], "big")
+        if end != -1 and ((flags & 0xFFF) == wanted or (
+                extended & 0x4000 and (extended & 0xFFF) == wanted)):
+            return True
+        at = data.find(prefix, at + 1)
+    return False
+
+
+def own_repository(directory) -> Path | None:
+    """The repository ``directory`` belongs to: the version-control root above it
+    (``repository_of``) when it is that root or a directory the repository holds
+    (``tracked``); None for a directory outside any, or inside a work tree that does not
+    hold it (a checkout without its own metadata: it is not that work tree's)."""
+    top = repository_of(directory)
+    if top is None:
+        return None
+    try:
+        real_directory = realpath(directory)
+    except (OSError, ValueError):
+        return None
+    return top if tracked(top, real_directory) else None
+
+
 def repository_for(path) -> Path:
-    """The repository of a checked path: its version-control root; without one, a directory
-    as given, a file's package (the nearest directory holding a ``package.xml``) or the file's
-    own directory. (Sibling packages outside it come from the operator: ROS_PACKAGE_PATH.)"""
-    found = repository_of(path)
+    """The repository of a checked path: its own repository (``own_repository``); without
+    one, a directory as given, a file's package (the nearest directory holding a
+    ``package.xml``, not above the directory's enclosing work tree) or the file's own
+    directory. (Sibling packages outside it come from the operator: ROS_PACKAGE_PATH.)"""
+    absolute = Path(os.path.abspath(os.fspath(path)))
+    directory = absolute if os.path.isdir(absolute) else absolute.parent
+    found = own_repository(directory)
     if found is not None:
         return found
-    absolute = Path(os.path.abspath(os.fspath(path)))
-    if os.path.isdir(absolute):
+    if directory == absolute:
         return _root(absolute)
-    directory = absolute.parent
+    enclosing = repository_of(directory)
     for parent in (directory, *directory.parents):
+        if enclosing is not None and not _root(parent).is_relative_to(enclosing):
+            break
         if os.path.isfile(parent / "package.xml"):
             return _root(parent)
+        if enclosing is not None and _root(parent) == enclosing:
+            break
     return _root(directory)
 
 
