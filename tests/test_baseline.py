@@ -123,3 +123,37 @@ def test_a_baseline_keeps_uris_in_messages_and_relativises_paths(tmp_path):
                                       "'package://d_description/meshes/base.stl': no file at "
                                       "d_description/meshes/base.stl")
     assert paths.message(f"file://{mesh}") == "d_description/meshes/base.stl"
+
+
+def test_fix_and_failed_expansions_count_only_what_was_computed_as_gone(tmp_path, monkeypatch):
+    """Issue 29: `check --fix` of one package with a repository's baseline said the findings
+    of every entry it never looked at were "gone", and an entry whose expansion failed had its
+    uncomputed findings counted as gone: the advice "write the baseline again" would have
+    dropped them."""
+    repo = _clone(tmp_path / "repo")
+    monkeypatch.chdir(repo)
+    camera = repo / "demo_description" / "urdf" / "camera.xacro"
+    camera.write_text(camera.read_text().replace('<mass value="0.1"/>', '<mass value="0"/>', 1))
+    assert run_urdftool("check", "--write-baseline", "baseline.json", ".").code == 0
+    recorded = json.loads((repo / "baseline.json").read_text())["findings"]
+    demo = [r for r in recorded if r["path"].startswith("demo_description/")]
+    others = [r for r in recorded if not r["path"].startswith("demo_description/")]
+    assert [r["rule"] for r in demo] == ["inertia.mass-not-positive"] and others
+    # --fix of one package: the other package's records are neither compared nor gone
+    result = run_urdftool("check", "--fix", "--in-place", "--baseline", "baseline.json",
+                          "demo_description")
+    assert result.code in (0, 1), result.err
+    assert "recorded one(s) still present, 0 recorded one(s) gone" in result.err, result.err
+
+    # the entry's expansion now fails: what it could not compute is not "gone"
+    robot = repo / "demo_description" / "urdf" / "robot.urdf.xacro"
+    good = robot.read_text()
+    robot.write_text(good.replace("</robot>", "<xacro:no_such_macro/></robot>"))
+    code, found, err = _check("--baseline", "baseline.json", ".")
+    assert code == 1 and {d["rule"] for d in found} == {"xacro.error"}, found
+    assert f"{len(others)} recorded one(s) still present, 0 recorded one(s) gone" in err, err
+    # a recorded finding that disappears for real is still counted as gone
+    robot.write_text(good)
+    camera.write_text(camera.read_text().replace('<mass value="0"/>', '<mass value="0.1"/>', 1))
+    code, found, err = _check("--baseline", "baseline.json", ".")
+    assert (code, found) == (0, []) and "1 recorded one(s) gone" in err, err

@@ -11,8 +11,8 @@ baseline written in one clone matches in another clone at another path, run from
 A path outside the repository (an installed package) is matched by its file name only.
 
 Matching counts: a finding recorded twice hides two. A run that saw only some files (``check
---changed``, a subdirectory) compares only the recorded findings of the files it saw
-(``Report.seen``): the others are neither "gone" nor used. The file is JSON, sorted, for
+--changed``, a subdirectory, ``--fix``, a file whose expansion failed) counts as "gone" only the
+recorded findings of the files whose findings it computed in full (``Report.seen``). The file is JSON, sorted, for
 reviewable diffs.
 """
 
@@ -135,10 +135,9 @@ def apply_baseline(report: Report, path: Path) -> None:
     were hidden and how many recorded ones are gone (among the files the run saw)."""
     records = read_baseline(path)
     paths = _Paths(repository_root(path))
-    seen = getattr(report, "seen", None)
-    if seen is not None:  # the files whose findings the run reports in full
-        visible = {paths.file(p) for p in seen}
-        records = [r for r in records if r["path"] in visible]
+    # a finding matches only records of its own file, so every record may hide one; "gone" is
+    # said only of the files whose findings the run computed in full (``Report.seen``: not the
+    # entries a --fix or --changed run never looked at, nor an expansion that failed)
     left = Counter(_key(r) for r in records)
     hidden = 0
     for file in report.files:
@@ -151,7 +150,9 @@ def apply_baseline(report: Report, path: Path) -> None:
             else:
                 kept.append(d)
         file.diagnostics = kept
-    gone = sum(left.values())
+    seen = getattr(report, "seen", None)
+    visible = None if seen is None else {paths.file(p) for p in seen}
+    gone = sum(count for key, count in left.items() if visible is None or key[1] in visible)
     new = len(report.diagnostics())
     report.notes.append(f"baseline {path}: {new} new finding(s), {hidden} recorded one(s) "
                         f"still present, {gone} recorded one(s) gone"

@@ -568,20 +568,26 @@ def seen_files(targets: list[Target], shown: list[FileReport], reports: list[Fil
     """The files (resolved) whose findings a run reports in full (a baseline compares only
     those, ``urdftool.baseline``): every file the checks read; in changed-files mode, the given
     files the shown checks read, and every file of a check shown for a YAML, mesh or launch
-    file it reads."""
+    file it reads. A check whose expansion failed (``_failed``) or was not done computed only
+    some of the findings of the files it read (a macro of an include it never called): none of
+    them is seen, whatever other checks read them."""
+    unsure = {p for t, r in zip(targets, reports) if r is not None and _failed(r)
+              for p in (real(t.path), *r.includes)}
     if given is None:
-        return {p for t, r in zip(targets, reports) if r is not None
-                for p in (real(t.path), *r.includes)}
+        return {p for t, r in zip(targets, reports) if r is not None and not _failed(r)
+                for p in (real(t.path), *r.includes)} - unsure
     by_report = {id(r): t for t, r in zip(targets, reports)}
     seen: set[str] = set()
     for report in shown:
+        if _failed(report):
+            continue
         files = {real(report.path), *report.includes}
         target = by_report.get(id(report))
         if target is not None and triggers(target, report, given):
             seen |= files
         else:
             seen |= files & given
-    return seen
+    return seen - unsure
 
 
 def other_inputs(source, robot) -> set[str]:

@@ -337,16 +337,16 @@ def _fix(paths, options, output, in_place, unsafe, diff, targets=()):
                         "file, or use --diff to see the changes)")
     # planned as check plans (one verdict): a named file's launch-file arguments and
     # configured entries, a fragment fixed without the rules that need its includer
-    result = _fix_many(paths, options, unsafe)
+    result, seen = _fix_many(paths, options, unsafe)
     changed = result.changed()
-    remaining = len(_remaining(result).diagnostics())
+    remaining = len(_remaining(result, seen).diagnostics())
     summary = f"{result.fixed} {'would be fixed' if diff else 'fixed'}, {remaining} remaining"
     if diff:
         text = unified_diff(result)
         if text:
             click.echo(text, nl=False)
         click.echo(summary + ("" if changed else " (nothing to change)"), err=True)
-        return None if changed else _remaining(result)
+        return None if changed else _remaining(result, seen)
     top = Path(paths[0]).resolve()
     others = [name for name in changed if Path(name).resolve() != top]
     if output:
@@ -372,15 +372,20 @@ def _fix(paths, options, output, in_place, unsafe, diff, targets=()):
                          encoding=encoding)
             click.echo(f"fixed {clean(name)}", err=True)
     click.echo(summary, err=True)
-    return _remaining(result)
+    return _remaining(result, seen)
 
 
-def _remaining(result):
-    """The report of what the fixes left (one file, or every check of several)."""
+def _remaining(result, seen):
+    """The report of what the fixes left (one file, or every check of several), whose findings
+    are complete for the files ``seen`` (those of the run the fixes started from: a baseline's
+    records of other files are not "gone")."""
     from urdftool.report import Report, merge_repeats
 
     remaining = result.remaining
-    return Report(merge_repeats(list(remaining)) if isinstance(remaining, list) else [remaining])
+    report = Report(merge_repeats(list(remaining)) if isinstance(remaining, list)
+                    else [remaining])
+    report.seen = seen
+    return report
 
 
 def _fix_many(paths, options, unsafe):
@@ -419,4 +424,4 @@ def _fix_many(paths, options, unsafe):
             texts[name] = text
         fixed += result.fixed
         remaining.append(result.remaining)
-    return FixResult(originals, texts, fixed, remaining)
+    return FixResult(originals, texts, fixed, remaining), report.seen
