@@ -233,3 +233,38 @@ def test_unresolved_sdf_include_is_the_one_finding(tmp_path, monkeypatch):
     options.load = LoadOptions(sdf_model_paths=[str(tmp_path / "models")])
     report = check_file(path, options)
     assert [d.rule for d in report.diagnostics if d.severity == "error"] == []
+
+
+def test_drive_geometry_on_wheels_that_are_no_axle(write):
+    """Issue 29: a diff-drive plugin on two omni wheels 120 degrees apart got a wheel
+    separation computed along one wheel's axis. The axes are compared first: one finding says
+    the plugin assumes coaxial wheels, with the angle the test computes from the joints."""
+    import math
+
+    import numpy as np
+    from scipy.spatial.transform import Rotation
+
+    def wheel(name, link, yaw):
+        # the wheel's axis is the joint frame's z, turned by rpy (-pi/2, 0, yaw)
+        x, y = 0.1 * math.cos(yaw + math.pi / 2), 0.1 * math.sin(yaw + math.pi / 2)
+        return (f'  <joint name="{name}" type="continuous"><parent link="base"/>'
+                f'<child link="{link}"/>\n    <origin xyz="{x!r} {y!r} 0" '
+                f'rpy="-1.5707963267948966 0 {yaw!r}"/><axis xyz="0 0 1"/></joint>\n')
+
+    yaws = (0.0, 2 * math.pi / 3)
+    text = BASE.split('  <joint name="left"')[0] + wheel("left", "wl", yaws[0]) + \
+        wheel("right", "wr", yaws[1])
+    text += diff_drive()
+    diagnostics = found(write, text)
+    plugin_line = text[:text.index("<leftJoint>")].count("\n") + 1
+    assert [(d.rule, d.line) for d in diagnostics] == [("gazebo.drive-geometry", plugin_line)], \
+        [d.message for d in diagnostics]
+    axes = [Rotation.from_euler("xyz", (-math.pi / 2, 0, yaw)).apply((0, 0, 1)) for yaw in yaws]
+    angle = math.degrees(math.acos(float(np.dot(*axes))))
+    assert f"{angle:.3g} degrees apart" in diagnostics[0].message
+    assert "assumes coaxial wheels" in diagnostics[0].message
+    assert "separation" not in diagnostics[0].message.split("assumes")[0]
+    # mirrored wheels (one axis the other's opposite) are one axle: compared as before
+    mirrored = BASE.replace('rpy="-1.5708 0 0"/><axis xyz="0 0 1"/></joint>\n  <joint name="right"',
+                            'rpy="1.5708 0 0"/><axis xyz="0 0 -1"/></joint>\n  <joint name="right"')
+    assert found(write, mirrored + diff_drive()) == []

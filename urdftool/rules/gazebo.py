@@ -334,8 +334,12 @@ def _drive_pairs(plugin):
       computes odometry from them. When they disagree with the distance between the wheel
       joints and the wheels' radius, the robot turns at the wrong rate and odometry drifts. A
       left joint on the robot's right side (negative y in the base frame, x forward) makes the
-      robot turn the wrong way. The fix (unsafe: it trusts the joints) writes the measured
-      separation and wheel size into the plugin, and swaps its left and right joints.""",
+      robot turn the wrong way. The separation is measured along the wheels' common axis, so
+      the axes are compared first: wheels whose axes are more than 5 degrees apart (omni
+      wheels 120 degrees apart, steered wheels) are no axle, and the one finding says that the
+      plugin assumes coaxial wheels instead of comparing a separation that has no meaning. The
+      fix (unsafe: it trusts the joints) writes the measured separation and wheel size into
+      the plugin, and swaps its left and right joints.""",
       bad='<robot name="r">\n  <link name="base"/><link name="l"/><link name="rw"/>\n'
           '  <joint name="left" type="continuous"><parent link="base"/><child link="l"/>\n'
           '    <origin xyz="0 0.15 0"/><axis xyz="0 1 0"/></joint>\n'
@@ -376,9 +380,38 @@ def drive_geometry(robot: Robot):
                                    right_node, left_pose, right_pose, separation, size)
 
 
+# wheel axes further apart than this (either sense) are not one axle: a diff drive turns them
+# as if they were, and its separation has no meaning
+AXLE_TOLERANCE = math.radians(5.0)
+
+
+def _angle_between_axes(a: Vector, b: Vector) -> float | None:
+    """The angle between two lines (axes of either sense), radians in [0, pi/2]; None for a
+    zero axis."""
+    na, nb = math.sqrt(sum(x * x for x in a)), math.sqrt(sum(x * x for x in b))
+    if na == 0 or nb == 0:
+        return None
+    cosine = abs(sum(x * y for x, y in zip(a, b))) / (na * nb)
+    return math.acos(min(1.0, cosine))
+
+
 def _check_pair(robot, base, left_joint, right_joint, left_node, right_node, left_pose,
                 right_pose, separation, size):
     axis = _apply(left_pose[0], left_joint.axis_or_default)
+    other = _apply(right_pose[0], right_joint.axis_or_default)
+    angle = _angle_between_axes(axis, other)
+    if angle is not None and angle > AXLE_TOLERANCE:
+        # omni or steered wheels: nothing below is meaningful (no axle, no sides)
+        between = math.degrees(math.acos(sum(x * y for x, y in zip(axis, other)) / (
+            math.sqrt(sum(x * x for x in axis)) * math.sqrt(sum(x * x for x in other)))))
+        yield Finding(f"the drive plugin turns wheel joints '{left_joint.name}' and "
+                      f"'{right_joint.name}' as one axle, but their axes are {between:.3g} "
+                      "degrees apart: a diff-drive plugin assumes coaxial wheels, so its "
+                      "commanded turn rate and odometry do not match how these wheels move",
+                      robot.loc(left_node),
+                      hint="drive these wheels with a plugin for their layout (an omni or "
+                           "planar-move plugin), or name the two coaxial wheel joints")
+        return
     norm = math.sqrt(sum(a * a for a in axis))
     delta = tuple(a - b for a, b in zip(left_pose[1], right_pose[1]))
     if norm > 0:
