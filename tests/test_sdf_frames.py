@@ -288,3 +288,53 @@ def test_placement_frame_merge_include_world_joint(tmp_path):
                    world_base @ T(0, 1, 0) @ T(0, 0, 0, HALF_PI, 0, 0) @ R([0, 0, 1], q[0]))
         # a frame attached to __model__ hangs on the canonical link
         check_pose(np.linalg.inv(world) @ urdf.frame("marker"), world_base @ T(0.5, 0.5, 0))
+
+
+def _door_models(tmp_path: Path) -> Path:
+    door = tmp_path / "models" / "door"
+    door.mkdir(parents=True)
+    (door / "model.config").write_text('<?xml version="1.0"?>\n<model><name>door</name>'
+                                       '<sdf version="1.6">model.sdf</sdf></model>\n')
+    (door / "model.sdf").write_text(
+        '<?xml version="1.0"?>\n<sdf version="1.6">\n  <model name="door">\n'
+        '    <link name="panel">\n      <inertial><mass>2</mass><inertia><ixx>0.7</ixx>'
+        '<iyy>0.8</iyy><izz>0.2</izz></inertia></inertial>\n'
+        '      <collision name="c"><geometry><box><size>1 0.05 2</size></box></geometry>'
+        '</collision>\n    </link>\n  </model>\n</sdf>\n')
+    return tmp_path / "models"
+
+
+def test_a_model_included_twice_without_name_is_reported_at_the_includes(tmp_path):
+    """Issue 29: the same model included twice without <name> was reported inside the included
+    model (at a line that is fine, "also at line 3" on line 3), once for the model and once
+    for each of its links. One finding, at the includer's second <include>, with the name to
+    write; in a world, one per later <include>."""
+    import json
+
+    models = _door_models(tmp_path)
+    include = "    <include>\n      <uri>model://door</uri>\n      <pose>{} 0 0 0 0 0</pose>\n" \
+              "    </include>\n"
+    house = tmp_path / "house.sdf"
+    house.write_text('<?xml version="1.0"?>\n<sdf version="1.6">\n  <model name="house">\n'
+                     "    <static>true</static>\n" + include.format(0) + include.format(2)
+                     + "  </model>\n</sdf>\n")
+    result = run_urdftool("check", "--format", "json", "--model-path", str(models), str(house))
+    found = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+             if d["rule"] == "sdf.duplicate-name"]
+    text = house.read_text().splitlines()
+    second = [i for i, line in enumerate(text, 1) if "<include>" in line][1]
+    assert [(Path(d["path"]).name, d["line"], d["severity"]) for d in found] == \
+        [("house.sdf", second, "error")], found
+    assert "<name>door_2</name>" in found[0]["hint"] and "line 5" in found[0]["message"]
+
+    world = tmp_path / "world.sdf"
+    world.write_text('<?xml version="1.0"?>\n<sdf version="1.6">\n  <world name="w">\n'
+                     + "".join(include.format(x) for x in (0, 2, 4)) + "  </world>\n</sdf>\n")
+    result = run_urdftool("check", "--format", "json", "--model-path", str(models), str(world))
+    found = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+             if d["rule"] == "sdf.duplicate-name"]
+    lines = [i for i, line in enumerate(world.read_text().splitlines(), 1) if "<include>" in line]
+    assert [(Path(d["path"]).name, d["line"]) for d in found] == \
+        [("world.sdf", lines[1]), ("world.sdf", lines[2])], found
+    assert ["<name>door_2</name>" in found[0]["hint"], "<name>door_3</name>" in found[1]["hint"]] \
+        == [True, True]

@@ -121,7 +121,10 @@ source_rule(
     refused in every version; below 1.7 a link, a joint and a frame may share a name, and
     libsdformat (so Gazebo) loads the file with a warning, renaming the later one in document
     order `NAME_joint`, `NAME_link` or `NAME_frame` (then `NAME_joint0`...): urdftool does the
-    same and says so (a warning). From 1.7 on the clash is refused (an error).""",
+    same and says so (a warning). From 1.7 on the clash is refused (an error). A model
+    included twice without `<name>` (both take the included model's own name) is one finding
+    at the includer's second `<include>`, with a `<name>` to write, never inside the included
+    file; in a world, a second model of one name is a warning (Gazebo refuses to add it).""",
     bad=_model(_BASE + _LINK.format("base")),
     good=_model(_BASE + _ARM),
 )

@@ -44,6 +44,7 @@ def convert_source(source, path: Path, text: str, options: ConvertOptions):
                       hint="an SDF robot is a <model> with links and joints")
         raise ModelChoiceError(f"{where} has no <model>")
     names = [name for _, name in candidates]
+    _same_names(reader, candidates)
     if options.model is not None:
         chosen = [c for c in candidates if c[1] == options.model]
         if not chosen:
@@ -101,3 +102,35 @@ def convert_guarded(source, path: Path, text: str, options: ConvertOptions):
             f"the model cannot be converted: {type(exc).__name__}: {exc}",
             Loc(str(source.path), 1, 1), hint="report this file to urdftool's developers"))
         return None
+
+
+def _same_names(reader: Reader, candidates) -> None:
+    """The models of a world need names of their own: one finding per model whose name an
+    earlier one has (the same model included again without ``<name>``), at its ``<include>``
+    (or ``<model>``) line, never inside the included file."""
+    first: dict[str, object] = {}
+    for element, name in candidates:
+        if not name:
+            continue
+        if name not in first:
+            first[name] = element
+            continue
+        number = 2
+        while f"{name}_{number}" in first:
+            number += 1
+        first[f"{name}_{number}"] = element  # the next clash gets the next number
+        earlier = reader.loc(first[name]).line
+        if element.tag == "include":
+            written = reader.text_of(element, "name")
+            message = (f"this <include> names its model '{name}'"
+                       + ("" if written else " (the included model's own name: the <include> "
+                          "has no <name>)")
+                       + f", as does the one at line {earlier}: Gazebo refuses a second model "
+                       "of one name in a world")
+            hint = f"give each <include> a name of its own: <name>{name}_{number}</name>"
+        else:
+            message = (f"model '{name}' has the name of the model at line {earlier}: Gazebo "
+                       "refuses a second model of one name in a world")
+            hint = f'rename it <model name="{name}_{number}">'
+        reader.report("sdf.duplicate-name", message, element, hint=hint, severity="warning")
+

@@ -34,17 +34,28 @@ class PoseGraph:
         self._memo: dict[tuple[str, str], Transform] = {}
         self._stack: list[tuple[str, str]] = []
         self._reported: set[int] = set()
+        dropped: set[int] = set()  # models left out for their name: nothing of them is added
         for scope in top.walk():
-            if scope.parent is not None:
-                self._add(Node(scope.frame_key, scope.parent, model=scope), scope.element)
+            if scope.parent is not None and id(scope.parent) in dropped:
+                dropped.add(id(scope))
+                continue
+            if scope.parent is not None and \
+                    not self._add(Node(scope.frame_key, scope.parent, model=scope), scope.element):
+                dropped.add(id(scope))  # one finding for the model, none for what it holds
+                continue
             for entity in scope.links + scope.joints + scope.frames:
                 self._add(Node(entity.key, scope, entity=entity), entity.element)
 
-    def _add(self, node: Node, element) -> None:
+    def _add(self, node: Node, element) -> bool:
+        """Add ``node``; False (and one finding) when its name is taken."""
         if node.key in self.nodes:
             other = self.nodes[node.key]
             other_element = other.entity.element if other.entity else other.model.element
             scope = node.scope if node.model is None else node.model
+            included = node.model.include_element if node.model is not None else None
+            if included is not None:
+                self._included_twice(node, other, included)
+                return False
             self.reader.report(
                 "sdf.duplicate-name",
                 f"name '{node.key}' is used twice in one model (also at line "
@@ -53,8 +64,32 @@ class PoseGraph:
                 hint="links, joints, frames and nested models of one model need distinct names"
                 + ("" if scope.version >= (1, 7) else
                    " (below SDFormat 1.7 only a link, a joint and a frame may share one)"))
-            return
+            return False
         self.nodes[node.key] = node
+        return True
+
+    def _included_twice(self, node: Node, other: Node, include) -> None:
+        """A model an ``<include>`` brings in under a name its model already has (the same
+        model included twice without ``<name>``): said at the includer's ``<include>``, where
+        the fix is written, never inside the included file (which is fine)."""
+        name = node.model.name
+        where = other.model.include_element if other.model is not None else None
+        if where is None:
+            where = other.entity.element if other.entity is not None else other.model.element
+        here, there = self.reader.loc(include), self.reader.loc(where)
+        also = f"line {there.line}" if there.path == here.path else f"{there.path}:{there.line}"
+        taken = {key.rsplit("::", 1)[-1] for key in self.nodes}
+        number = 2
+        while f"{name}_{number}" in taken:
+            number += 1
+        written = self.reader.text_of(include, "name")
+        self.reader.report(
+            "sdf.duplicate-name",
+            f"this <include> names its model '{name}'"
+            + ("" if written else " (the included model's own name: the <include> has no <name>)")
+            + f", as does the one at {also}: libsdformat refuses the model (Gazebo does not "
+            "load it); this one is left out here", include,
+            hint=f"give each <include> a name of its own: <name>{name}_{number}</name>")
 
     # -- names --------------------------------------------------------------------------------
 
