@@ -418,7 +418,8 @@ def test_macro_instances_missing_different_files_name_every_file(tmp_path):
     """One macro line, four instances missing three files: one finding at the line (one
     written cause, its instances counted), naming every file its instances miss (they were
     folded into the first's name)."""
-    (tmp_path / "meshes").mkdir()
+    (tmp_path / "meshes").mkdir()  # a folder of meshes, some missing (not a folder of none)
+    (tmp_path / "meshes" / "base.stl").write_text("solid x\nendsolid x\n")
     robot = tmp_path / "arm.urdf.xacro"
     parts = [("wrist_1", "wrist1.stl"), ("wrist_2", "wrist2.stl"), ("wrist_2b", "wrist2.stl"),
              ("wrist_3", "wrist3.stl")]
@@ -448,6 +449,7 @@ def test_repeated_checks_of_one_macro_line_stay_one_finding_naming_every_file(tm
     package = tmp_path / "arm_description"
     (package / "urdf").mkdir(parents=True)
     (package / "meshes").mkdir()
+    (package / "meshes" / "base.stl").write_text("solid x\nendsolid x\n")
     (package / "package.xml").write_text("<package><name>arm_description</name></package>")
     (package / "urdf" / "parts.xacro").write_text(
         '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
@@ -468,3 +470,70 @@ def test_repeated_checks_of_one_macro_line_stay_one_finding_naming_every_file(tm
     assert len(found) == 1, [d["message"] for d in found]
     assert all(m in found[0]["message"] for m in ("v1_1.stl", "v1_2.stl", "v2_1.stl",
                                                   "v2_2.stl")), found[0]["message"]
+
+
+def _arm_package(where, mesh_names, meshes_dir="meshes"):
+    """A package whose robot names ``mesh_names`` in ``meshes_dir`` (not created here)."""
+    package = where / "arm_description"
+    (package / "urdf").mkdir(parents=True)
+    (package / "package.xml").write_text("<package><name>arm_description</name></package>")
+    links = "".join(
+        f'  <link name="l{i}"><visual><geometry><mesh filename="package://arm_description/'
+        f'{meshes_dir}/{name}"/></geometry></visual></link>\n' for i, name in enumerate(mesh_names))
+    joints = "".join(f'  <joint name="j{i}" type="fixed"><parent link="l{i - 1}"/>'
+                     f'<child link="l{i}"/></joint>\n' for i in range(1, len(mesh_names)))
+    (package / "urdf" / "arm.urdf").write_text(f'<robot name="arm">\n{links}{joints}</robot>\n')
+    return package
+
+
+def _not_found(package):
+    result = run_urdftool("check", "--format", "json", "--jobs", "1", str(package))
+    assert result.code in (0, 1), result.err
+    return [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+            if d["rule"] == "mesh.not-found"]
+
+
+def test_meshes_a_package_does_not_ship_are_one_finding_per_folder(tmp_path):
+    """Issue 29: a package whose meshes are not shipped gave one mesh.not-found per <mesh>
+    (94 errors for one cause): one finding per folder that holds none, with the count; a
+    warning when the package says how its meshes are installed."""
+    names = [f"part{i}.stl" for i in range(12)]
+    package = _arm_package(tmp_path, names)
+    (found,) = _not_found(package)  # the folder does not exist
+    assert found["severity"] == "error" and found["line"] == 2, found
+    assert "does not exist" in found["message"] and "12 meshes in it" in found["message"]
+    (package / "meshes").mkdir()  # an empty folder (a .gitkeep): the same cause
+    (package / "meshes" / ".gitkeep").write_text("")
+    (found,) = _not_found(package)
+    assert found["severity"] == "error" and "holds no mesh file" in found["message"], found
+    # the package says how they are installed: a warning that names what says so
+    (package / "CMakeLists.txt").write_text(
+        "cmake_minimum_required(VERSION 3.5)\nproject(arm_description)\n"
+        "file(DOWNLOAD https://example.org/arm_meshes.zip ${CMAKE_BINARY_DIR}/m.zip)\n")
+    (found,) = _not_found(package)
+    assert found["severity"] == "warning" and "CMakeLists.txt downloads" in found["message"]
+    (package / "CMakeLists.txt").unlink()
+    (package / ".gitignore").write_text("# fetched by scripts/get_meshes.sh\nmeshes/\n")
+    (found,) = _not_found(package)
+    assert found["severity"] == "warning" and ".gitignore" in found["message"], found
+    # a folder of meshes with some missing: each missing file is its own finding
+    (package / ".gitignore").unlink()
+    (package / "meshes" / "part0.stl").write_text("solid x\nendsolid x\n")
+    found = _not_found(package)
+    assert len(found) == 11 and {d["severity"] for d in found} == {"error"}
+
+
+def test_a_slip_in_the_mesh_folder_name_is_fixed(tmp_path):
+    """mesh.not-found's did-you-mean also covers the folder: ``mehses/part0.stl`` when
+    ``meshes/part0.stl`` exists (and only then)."""
+    package = _arm_package(tmp_path, ["part0.stl"], meshes_dir="mehses")
+    (package / "meshes").mkdir()
+    (package / "meshes" / "part0.stl").write_text("solid x\nendsolid x\n")
+    (found,) = _not_found(package)
+    assert "meshes/part0.stl" in found["hint"], found
+    assert [e["text"] for e in found["fix"]["edits"]] == ["meshes/part0.stl"]
+    fixed = run_urdftool("check", "--fix", "--in-place", str(package / "urdf" / "arm.urdf"))
+    assert fixed.code in (0, 1), fixed.err
+    assert "package://arm_description/meshes/part0.stl" in \
+        (package / "urdf" / "arm.urdf").read_text()
+    assert _not_found(package) == []

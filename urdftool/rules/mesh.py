@@ -94,7 +94,17 @@ def unresolved(robot):
 fails to show or collide the link (rviz shows nothing, Gazebo and PyBullet print an error and
 drop the shape). Relative paths are relative to the file where the `<mesh>` is written.
 When the directory holds the same name in another case (`base.STL` for `base.stl`: found on a
-case-insensitive disk, missing on Linux) or one mesh with a close name, that name is the fix.""",
+case-insensitive disk, missing on Linux) or one mesh with a close name, that name is the fix;
+a folder name with a slip in it (`mehses/`) is fixed the same way.
+
+One finding per cause: when several meshes of a robot are missing from one folder that holds
+no mesh at all (it does not exist, or is empty: a package whose meshes are not shipped with
+its sources, or not pulled from Git LFS), that is one finding at the first of them, with how
+many there are. When the package says how its meshes are installed (its `.gitignore` leaves
+the folder or the mesh files out, `.gitattributes` stores them in Git LFS, its CMakeLists.txt
+downloads them, or its README says how to fetch them), the finding is a warning naming what
+says so: the meshes are expected to come from that step, and the robot tools will find them
+once it has run.""",
       bad='<robot name="r"><link name="a"><visual><geometry>'
           '<mesh filename="package://urdftool/physics/examples/Open_Box.stl"/></geometry>'
           '</visual></link></robot>',
@@ -103,19 +113,137 @@ case-insensitive disk, missing on Linux) or one mesh with a close name, that nam
            '</visual></link></robot>',
       fix="safe")
 def not_found(robot):
+    missing: dict = {}  # folder -> [(link analysis, shape info)] in document order
     for a, info in _mesh_shapes(robot):
         if info.path is not None and not is_file(info.path):
-            edits, hint = (), None
-            name = _twin(info.path)
-            if name is not None:
-                from urdftool.edits import tail_edit
+            missing.setdefault(info.path.parent, []).append((a, info))
+    for folder, shapes in missing.items():
+        files = list(dict.fromkeys(info.path.name for _, info in shapes))
+        state = _empty_folder(folder) if len(files) > 1 else None
+        if state is not None:
+            yield _folder_finding(robot, folder, state, shapes, files)
+            continue
+        for a, info in shapes:
+            yield _missing_file(robot, a, info)
 
-                hint = f"did you mean '{name}' (in the same directory)?"
-                made = tail_edit(robot.source.texts, _loc(info), ("mesh",), "filename",
-                                 info.path.name, name)
-                edits = (made,) if made is not None else ()
-            yield Finding(f"{_what(a, info)} mesh {info.shape.geometry.filename!r}: no file "
-                          f"at {info.path}", _loc(info), hint=hint, edits=edits)
+
+def _missing_file(robot, a, info) -> Finding:
+    edits, hint = (), None
+    twin = _twin(info.path)
+    if twin is not None:
+        from urdftool.edits import tail_edit
+
+        name, where = twin
+        hint = f"did you mean '{name}' ({where})?"
+        written = info.path.name if "/" not in name else f"{info.path.parent.name}/{info.path.name}"
+        made = tail_edit(robot.source.texts, _loc(info), ("mesh",), "filename", written, name)
+        edits = (made,) if made is not None else ()
+    return Finding(f"{_what(a, info)} mesh {info.shape.geometry.filename!r}: no file at "
+                   f"{info.path}", _loc(info), hint=hint, edits=edits)
+
+
+def _folder_finding(robot, folder, state: str, shapes, files: list[str]) -> Finding:
+    """One finding for every mesh missing from a folder that holds none."""
+    a, info = shapes[0]
+    installed = _install_note(robot, folder)
+    where = "does not exist" if state == "missing" else "holds no mesh file"
+    message = (f"{_what(a, info)} mesh {info.shape.geometry.filename!r}: no file at "
+               f"{info.path}; the folder {where}, and the robot names {len(files)} meshes in it "
+               f"({_names(files, 3)}): the package's meshes are not there")
+    if installed:
+        return Finding(message + f"; {installed}, so they come from a separate step",
+                       _loc(info), severity="warning",
+                       hint="run the package's step that installs its meshes before checking "
+                            "them (the mesh and inertia checks of these links are skipped)")
+    return Finding(message + " (not shipped, or not pulled from Git LFS)", _loc(info),
+                   hint="add the meshes to the package, or say in the package how they are "
+                        "installed (the mesh and inertia checks of these links are skipped)")
+
+
+def _empty_folder(folder) -> str | None:
+    """"missing" when ``folder`` does not exist, "empty" when it holds no mesh file (nor a
+    folder of them), None when it holds some."""
+    from urdftool.physics.meshes import LOADABLE
+
+    try:
+        for _, entry in zip(range(2000), folder.iterdir()):
+            if entry.suffix.lower() in LOADABLE or entry.is_dir():
+                return None
+    except FileNotFoundError:
+        return "missing"
+    except OSError:
+        return None
+    return "empty"
+
+
+# what says how a package's meshes are installed (issue 29): read from these files of the
+# package (and the repository root), small and bounded, inside the run's roots
+_INSTALL_FILES = (".gitignore", ".gitattributes", "CMakeLists.txt", "README.md", "README.rst",
+                  "README.txt", "README")
+_INSTALL_BYTES = 256 << 10
+_DOWNLOAD_WORDS = ("file(download", "externalproject_add", "fetchcontent_declare",
+                   "catkin_download", "download_file", "_download(")
+
+
+def _install_note(robot, folder) -> str | None:
+    """What in the package of ``folder`` says its meshes are installed by a separate step
+    (a short phrase), or None."""
+    from urdftool.files import read_regular
+
+    mesh_words = {".stl", ".dae", ".obj", ".ply", "mesh"}
+    roots = getattr(getattr(robot.source, "resolver", None), "roots", None)
+    for directory in _package_dirs(folder):
+        for name in _INSTALL_FILES:
+            path = directory / name
+            if not is_file(path) or (roots is not None and not roots.readable(path)):
+                continue
+            try:
+                text = read_regular(path, _INSTALL_BYTES).decode("utf-8", "replace").lower()
+            except OSError:
+                continue
+            lines = [line.strip() for line in text.splitlines()]
+            relative = _relative_name(folder, directory)
+            if name == ".gitignore" and any(
+                    line and not line.startswith(("#", "!")) and (
+                        line.strip("/") in relative or any(w in line for w in mesh_words))
+                    for line in lines):
+                return f"its {path.parent.name}/.gitignore leaves the meshes out"
+            if name == ".gitattributes" and any("filter=lfs" in line and any(
+                    w in line for w in mesh_words | {relative}) for line in lines):
+                return f"its {path.parent.name}/.gitattributes stores the meshes in Git LFS"
+            if name == "CMakeLists.txt" and any(w in text for w in _DOWNLOAD_WORDS):
+                return f"its {path.parent.name}/CMakeLists.txt downloads files"
+            if name.startswith("README") and any(
+                    "mesh" in line and any(w in line for w in ("download", "git lfs", "fetch",
+                                                               "install"))
+                    for line in lines):
+                return f"its {path.parent.name}/{name} says how to get the meshes"
+    return None
+
+
+def _package_dirs(folder):
+    """The directories above ``folder`` up to its package's (the nearest ``package.xml``),
+    and that of the repository (``.git``) if it is further up: the nearest first."""
+    found = []
+    for directory in (folder, *folder.parents):
+        if directory.is_dir():
+            found.append(directory)
+            if is_file(directory / "package.xml"):
+                break
+    else:
+        return []
+    for directory in found[-1].parents:
+        if (directory / ".git").exists():
+            found.append(directory)
+            break
+    return found[-2:] if len(found) > 1 else found
+
+
+def _relative_name(folder, directory) -> str:
+    try:
+        return folder.relative_to(directory).as_posix().lower()
+    except ValueError:
+        return folder.name.lower()
 
 
 def _tried(robot) -> str:
@@ -126,21 +254,46 @@ def _tried(robot) -> str:
 
 
 def _twin(path):
-    """The one mesh file beside a missing ``path`` that its name is a slip of: the same name in
-    another case (``base.STL`` for ``base.stl``), else the one close name (``did_you_mean``);
-    None when there is no such file or several."""
-    from urdftool.physics.meshes import LOADABLE
+    """(name, where) of the one mesh file a missing ``path`` is a slip of: the same name in
+    another case (``base.STL`` for ``base.stl``), else the one close name (``did_you_mean``)
+    in the same directory; when the directory itself does not exist, the one close directory
+    name beside it holding the file (``mehses/base.stl``: ``meshes/base.stl``). None when there
+    is no such file or several."""
     from urdftool.rules import did_you_mean
 
-    try:
-        entries = [p.name for _, p in zip(range(2000), path.parent.iterdir())
-                   if p.suffix.lower() in LOADABLE and is_file(p)]
-    except OSError:
+    folder = path.parent
+    entries = _mesh_files(folder)
+    if entries is None:  # no such folder: a slip in its name?
+        others = _folders(folder.parent)
+        guess = did_you_mean(folder.name, others) if others else None
+        if guess is not None and is_file(folder.parent / guess / path.name):
+            return f"{guess}/{path.name}", "a folder of that name beside it"
         return None
     same = [n for n in entries if n.lower() == path.name.lower()]
     if same:
-        return same[0] if len(same) == 1 else None
-    return did_you_mean(path.name, entries)
+        return (same[0], "in the same directory") if len(same) == 1 else None
+    guess = did_you_mean(path.name, entries)
+    return (guess, "in the same directory") if guess is not None else None
+
+
+def _mesh_files(folder) -> list[str] | None:
+    """The mesh files of ``folder`` (at most 2000 entries looked at); None when it does not
+    exist or cannot be listed."""
+    from urdftool.physics.meshes import LOADABLE
+
+    try:
+        return [p.name for _, p in zip(range(2000), folder.iterdir())
+                if p.suffix.lower() in LOADABLE and is_file(p)]
+    except OSError:
+        return None
+
+
+def _folders(directory) -> list[str]:
+    try:
+        return [p.name for _, p in zip(range(2000), directory.iterdir()) if p.is_dir()]
+    except OSError:
+        return []
+
 
 
 @rule("mesh.unreadable", "error", "a mesh file cannot be read as a mesh",
