@@ -95,6 +95,19 @@ def test_without_a_launch_file_the_missing_argument_is_reported(tmp_path, monkey
     assert any("$(arg model)" in m for m in messages), messages
 
 
+def test_a_changed_launch_file_is_said_to_pass_the_arguments(tmp_path, monkeypatch):
+    """Issue 29: a changed launch file re-checks the entry it passes arguments to, and the
+    note said the reverse ("checked because it reads launch/display.launch")."""
+    root = _package(tmp_path, "display.launch", XML_LAUNCH.format(model="blackfly"))
+    monkeypatch.chdir(tmp_path)
+    result = run_urdftool("check", "--jobs", "1", "--changed", "--",
+                          f"{root.name}/launch/display.launch")
+    assert result.code == 1, result.err
+    assert "display.urdf.xacro: checked because cam_description/launch/display.launch passes its " \
+           "xacro arguments" in result.err, result.err
+    assert "reads launch/" not in result.err
+
+
 def test_configured_entries_win_over_launch_files(tmp_path, monkeypatch):
     root = _package(tmp_path, "display.launch", XML_LAUNCH.format(model="no_such_model"))
     (root / "urdftool.toml").write_text(

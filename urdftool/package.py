@@ -552,9 +552,7 @@ def classify(targets: list[Target], reports: list[FileReport],
                 elsewhere += len(report.diagnostics) - len(inside)
                 report.diagnostics = inside
             else:  # a YAML, a mesh, a launch file: its values show in the entry's findings
-                notes.append(f"{report.path}: checked because it reads "
-                             + ", ".join(_shown(Path(p), [report.path]).as_posix()
-                                         for p in inputs))
+                notes.append(_trigger_note(report.path, inputs, targets[i], given))
             kept.append(i)
         shown = kept
         if elsewhere:
@@ -615,6 +613,24 @@ def triggers(target: Target, report: FileReport, given: set[str]) -> list[str]:
     meshes it read, launch files of its package (they choose a xacro file's arguments)."""
     found = [p for p in report.includes if p in given and not p.endswith(ROBOT_SUFFIXES)]
     return found + _launch_triggers(target, given)
+
+
+def _trigger_note(path: str, inputs: list[str], target: Target, given: set[str]) -> str:
+    """Why a check is shown in changed-files mode: the files it reads (YAML, meshes) and the
+    launch files that pass it its arguments (the launch file reads the xacro, not the other
+    way round)."""
+    launch = set(_launch_triggers(target, given))
+
+    def shown(paths):
+        return ", ".join(_shown(Path(p), [path]).as_posix() for p in paths)
+
+    read = [p for p in inputs if p not in launch]
+    parts = [f"it reads {shown(read)}"] if read else []
+    passing = [p for p in inputs if p in launch]
+    if passing:
+        parts.append(f"{shown(passing)} {'passes' if len(passing) == 1 else 'pass'} "
+                     "its xacro arguments")
+    return f"{path}: checked because " + " and ".join(parts)
 
 
 def _launch_triggers(target: Target, given: set[str]) -> list[str]:
