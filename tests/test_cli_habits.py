@@ -128,6 +128,18 @@ def test_ament_entry_point_refuses_a_malformed_xunit_target(tmp_path, monkeypatc
     assert (suite.get("name"), suite.get("failures")) == ("results.urdftool", "1")
 
 
+def test_ament_assert_clean_message_has_no_doubled_space(tmp_path, monkeypatch):
+    """Issue 29: `urdftool-ament  exited 1` (two spaces when no arguments were given)."""
+    from urdftool.cli.ament import assert_clean
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "r.urdf").write_text(ZERO_AXIS)
+    with pytest.raises(AssertionError) as raised:
+        assert_clean()
+    first = str(raised.value).splitlines()[0]
+    assert first == "urdftool-ament exited 1", first
+
+
 def test_reading_commands_read_through_the_safe_fixes_as_check_does():
     """Issue 23.7: the seed OpenManipulator has tags that lost their '<'; check reads it
     through its safe fixes, and so do the reading commands (saying so in one line on

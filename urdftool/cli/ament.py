@@ -128,7 +128,7 @@ def assert_clean(argv: list[str] | tuple[str, ...] = ()) -> None:
     sys.stdout.write(text)
     if code != 0:
         lines = [line for line in text.splitlines() if line and not line.startswith(" ")]
-        raise AssertionError(f"urdftool-ament {' '.join(argv)} exited {code}"
+        raise AssertionError(" ".join(["urdftool-ament", *argv, "exited", str(code)])
                              + (" (see its stderr)" if code == 2 else "") + "\n"
                              + "\n".join(lines))
 
