@@ -127,3 +127,24 @@ def test_open_manipulator_gripper_violation():
     corrected = run_urdftool("limits", OPEN_MANIPULATOR / "corrected" /
                              "open_manipulator.urdf.xacro")
     assert corrected.code == 0, corrected.out
+
+
+def test_limits_lists_infos_as_check_does():
+    """Issue 29: `limits` printed infos with their fix lines where `check` hides them unless
+    --show-info: the same findings are listed in both, infos only when asked (and counted)."""
+    xacro = next((OPEN_MANIPULATOR / "published").glob("*.xacro"))
+    check = run_urdftool("check", "--select", "mimic", str(xacro))
+    check_infos = run_urdftool("check", "--select", "mimic", "--show-info", str(xacro))
+
+    def listed(text, severity):
+        return sorted(line.split(f" {severity} ")[1].split(":")[0] for line in text.splitlines()
+                      if f": {severity} " in line and line.startswith(str(xacro)))
+
+    plain = run_urdftool("limits", str(xacro))
+    infos = run_urdftool("limits", "--show-info", str(xacro))
+    assert plain.code == infos.code == 1
+    assert listed(plain.out, "info") == listed(check.out, "info") == []
+    assert listed(infos.out, "info") == listed(check_infos.out, "info") != []
+    assert listed(plain.out, "error") == listed(check.out, "error") != []
+    assert "info (listed with --show-info)" in plain.out
+    assert "listed with --show-info" not in infos.out

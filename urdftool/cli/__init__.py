@@ -115,6 +115,31 @@ def format_option(*choices: str, default: str = "text"):
                         default=default, show_default=True, help="Output format.")
 
 
+def show_info_option(function):
+    """``--show-info``: infos are listed only when asked, as ``check`` lists them (always
+    counted, and always in JSON)."""
+    return click.option("--show-info", is_flag=True,
+                        help="Text: list infos too (they are always counted, and always in "
+                             "JSON).")(function)
+
+
+def print_findings(findings, show_info: bool, located=lambda f: (f["path"], f["line"])) -> None:
+    """A command's findings (dicts with severity, rule, message, hint), errors first; infos
+    only with ``show_info`` (``check`` hides them by default: one verdict, one look)."""
+    order = ("error", "warning", "info")
+    for f in sorted(findings, key=lambda f: order.index(f["severity"])):
+        if f["severity"] == "info" and not show_info:
+            continue
+        path, line = located(f)
+        print_finding(path, line, f.get("column"), f["severity"], f["rule"], f["message"],
+                      f.get("hint"))
+
+
+def info_summary(count: int, show_info: bool) -> str:
+    """'N info', with where to see them when they were not listed."""
+    return f"{count} info" + (" (listed with --show-info)" if count and not show_info else "")
+
+
 def package_option(function):
     return click.option("-P", "--package", "packages", multiple=True, metavar="NAME=DIR",
                         help="Where package NAME lives (for package:// and $(find NAME)). "

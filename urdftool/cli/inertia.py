@@ -8,11 +8,13 @@ import click
 
 from urdftool.cli import (
     format_option,
+    info_summary,
     load_robot,
     package_option,
     print_finding,
     print_json,
     print_table,
+    show_info_option,
     shown,
     shown_block,
     split_args,
@@ -56,11 +58,12 @@ def _verdict(row: dict) -> str:
                    "of the declared mass.")
 @format_option("text", "json")
 @package_option
+@show_info_option
 @untrusted_options
 @click.option("--no-cache", is_flag=True,
               help="Parse every mesh again: neither read nor write the mesh-summary cache "
                    "($URDFTOOL_CACHE_DIR, else ~/.cache/urdftool).")
-def command(inputs, link, density, fmt, packages, no_cache):
+def command(inputs, link, density, fmt, packages, show_info, no_cache):
     """Declared vs geometry-derived inertia per link, with a corrected <inertial> block for
     every link the inertia checks flag.
 
@@ -86,12 +89,12 @@ def command(inputs, link, density, fmt, packages, no_cache):
     if fmt == "json":
         print_json(data, allow_nan=False)
     else:
-        _print(data)
+        _print(data, show_info)
     if data["summary"]["errors"]:
         raise click.exceptions.Exit(1)
 
 
-def _print(data: dict) -> None:
+def _print(data: dict, show_info: bool = False) -> None:
     from rich.table import Table
 
     console = stdout_console()
@@ -109,6 +112,8 @@ def _print(data: dict) -> None:
                                 "link(s); moments in kg·m², principal, ascending")
     for row in data["links"]:
         for f in sorted(row["findings"], key=lambda f: _ORDER.index(f["severity"])):
+            if f["severity"] == "info" and not show_info:
+                continue  # as check lists them
             print_finding(f["path"], f["line"], f.get("column"), f["severity"], f["rule"],
                           f["message"])
     blocks = [row for row in data["links"] if row["corrected"] is not None]
@@ -132,4 +137,4 @@ def _print(data: dict) -> None:
     s = data["summary"]
     colour = "red" if s["errors"] else ("yellow" if s["warnings"] else "green")
     console.print(f"[{colour}]{s['links']} link(s): {s['errors']} error(s), "
-                  f"{s['warnings']} warning(s), {s['infos']} info[/]")
+                  f"{s['warnings']} warning(s), {info_summary(s['infos'], show_info)}[/]")

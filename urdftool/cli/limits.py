@@ -6,11 +6,13 @@ import click
 
 from urdftool.cli import (
     format_option,
+    info_summary,
     load_robot,
     package_option,
-    print_finding,
+    print_findings,
     print_json,
     print_table,
+    show_info_option,
     shown,
     split_args,
     stdout_console,
@@ -58,8 +60,9 @@ def _verdict(row: dict) -> str:
 @click.argument("inputs", nargs=-1, required=True, metavar="FILE [NAME:=VALUE...]")
 @format_option("text", "json")
 @package_option
+@show_info_option
 @untrusted_options
-def command(inputs, fmt, packages):
+def command(inputs, fmt, packages, show_info):
     """Joint-limit and mimic table: ranges, efforts, velocities, mimic images, verdicts.
 
     Exit code 1 when a joint or mimic check finds an error (e.g. a mimic follower driven
@@ -77,12 +80,12 @@ def command(inputs, fmt, packages):
     if fmt == "json":
         print_json(data, allow_nan=False)
     else:
-        _print_table(robot, data)
+        _print_table(robot, data, show_info)
     if failed:
         raise click.exceptions.Exit(1)
 
 
-def _print_table(robot, data: dict) -> None:
+def _print_table(robot, data: dict, show_info: bool = False) -> None:
     from rich.table import Table
 
     console = stdout_console()
@@ -105,10 +108,10 @@ def _print_table(robot, data: dict) -> None:
     print_table(console, table, f"[bold]{shown(data['robot'])}[/]: {len(data['joints'])} "
                                 "moving joint(s)")
     for row in data["joints"]:
-        for f in _sorted(row["findings"]):
-            print_finding(f.get("path") or row["path"], f.get("line") or row["line"],
-                          f.get("column"), f["severity"], f["rule"], f["message"], f["hint"])
+        print_findings(row["findings"], show_info,
+                       lambda f, row=row: (f.get("path") or row["path"], f.get("line") or row["line"]))
     summary = data["summary"]
     colour = "red" if summary["errors"] else ("yellow" if summary["warnings"] else "green")
     console.print(f"[{colour}]{summary['joints']} joint(s): {summary['errors']} error(s), "
-                  f"{summary['warnings']} warning(s), {summary['infos']} info[/]")
+                  f"{summary['warnings']} warning(s), "
+                  f"{info_summary(summary['infos'], show_info)}[/]")
