@@ -363,3 +363,61 @@ def test_a_placeholder_named_by_an_arguments_default_is_a_fragment_of_a_failed_i
              for d in f["diagnostics"] if d["severity"] == "error"]
     assert found == [("robot.urdf.xacro", "xacro.error")], found
     assert "1 entry, 1 fragment" in err
+
+
+TEMPLATE = f"""<?xml version="1.0"?>
+<robot name="tpl" {XACRO_NS}>
+  <xacro:arg name="arm_file" default=""/>
+  <xacro:arg name="arm_length" default=""/>
+  <xacro:arg name="name" default="bot"/>
+  <xacro:property name="length" value="$(arg arm_length)"/>
+  <xacro:include filename="$(arg arm_file)"/>
+  <link name="$(arg name)_base"/>
+  <link name="tip"><inertial><mass value="${{float(length) * 2}}"/>
+    <inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="j" type="fixed"><parent link="$(arg name)_base"/><child link="tip"/></joint>
+</robot>
+"""
+
+
+def test_an_argument_template_is_one_warning_naming_its_empty_arguments(tmp_path, monkeypatch):
+    """Issue 29: a xacro whose arguments default to "" (another package's launch file passes
+    them) failed with xacro errors from the empty defaults (an include of '', float(''))."""
+    root = tmp_path / "tpl_description"
+    (root / "urdf").mkdir(parents=True)
+    (root / "package.xml").write_text("<package><name>tpl_description</name></package>")
+    (root / "urdf" / "template.urdf.xacro").write_text(TEMPLATE)
+    (root / "urdf" / "arm.xacro").write_text(robot("arm", BAD_JOINT.format(
+        name="arm_joint", parent="bot_base", child="tip"), xacro=True))
+    monkeypatch.chdir(root)
+    code, report, _ = check(".")
+    found = {f["path"]: [(d["rule"], d["severity"], d["message"], d["hint"])
+                         for d in f["diagnostics"]] for f in report["files"]}
+    ((rule, severity, message, hint),) = found["urdf/template.urdf.xacro"]
+    assert (rule, severity) == ("xacro.error", "warning")
+    assert "argument template" in message and "'arm_file', 'arm_length'" in message
+    assert 'args = { arm_file = "...", arm_length = "..." }' in hint
+    # the file it would include is judged alone for what it holds (its own true defect)
+    assert [r for r, *_ in found["urdf/arm.xacro"]] == ["joint.lower-above-upper"]
+    # given its arguments, it is the robot it is: the included arm's defect is reported
+    (root / "urdftool.toml").write_text(
+        'entries = [{ file = "urdf/template.urdf.xacro", '
+        'args = { arm_file = "arm.xacro", arm_length = "0.5" } }]\n')
+    code, report, _ = check(".")
+    rules = sorted(d["rule"] for f in report["files"] for d in f["diagnostics"])
+    assert "joint.lower-above-upper" in rules and "xacro.error" not in rules and code == 1
+
+
+def test_an_error_unrelated_to_the_empty_arguments_stays_an_error(tmp_path, monkeypatch):
+    root = tmp_path / "tpl_description"
+    (root / "urdf").mkdir(parents=True)
+    (root / "package.xml").write_text("<package><name>tpl_description</name></package>")
+    (root / "urdf" / "template.urdf.xacro").write_text(TEMPLATE.replace(
+        '<xacro:include filename="$(arg arm_file)"/>', '<link name="${undefined_thing}"/>')
+        .replace("${float(length) * 2}", "1"))
+    monkeypatch.chdir(root)
+    code, report, _ = check(".")
+    found = [(d["rule"], d["severity"]) for f in report["files"] for d in f["diagnostics"]]
+    assert ("xacro.error", "error") in found and code == 1
+    assert not any("argument template" in d["message"]
+                   for f in report["files"] for d in f["diagnostics"])

@@ -510,8 +510,9 @@ def classify(targets: list[Target], reports: list[FileReport],
     for i, report in enumerate(reports):
         if roles[i] == "entry" and (targets[i].configured or resolved[i] not in read_by_entry):
             shown.append(i)
-            _name_missing_arguments(report, targets[i],
-                                    bool(selection is not None and selection.refused))
+            refused = bool(selection is not None and selection.refused)
+            _name_missing_arguments(report, targets[i], refused)
+            _name_template_arguments(report, targets[i], refused)
             continue
         if resolved[i] in configured_files:
             continue  # the same file with other arguments: configured, it is an entry
@@ -726,6 +727,102 @@ def _name_missing_arguments(report: FileReport, target: Target, refused: bool = 
                     f"does not declare and {how}: it was not expanded",
             hint=f'give it in urdftool.toml: entries = [{{ file = "{file}", args = '
                  f'{{ {name} = "..." }} }}] (or pass {name}:=VALUE)')
+
+
+_EMPTY_ARG = re.compile(r"<(?:xacro:)?arg\s[^<>]*?\bname\s*=\s*[\"']([A-Za-z_]\w*)[\"'][^<>]*?"
+                        r"\bdefault\s*=\s*(?:\"\"|'')|<(?:xacro:)?arg\s[^<>]*?\bdefault\s*=\s*"
+                        r"(?:\"\"|'')[^<>]*?\bname\s*=\s*[\"']([A-Za-z_]\w*)[\"']")
+_PROPERTY = re.compile(r"<xacro:property\s[^<>]*?\bname\s*=\s*[\"']([A-Za-z_]\w*)[\"']"
+                       r"[^<>]*?\bvalue\s*=\s*(\"[^\"<>]*\"|'[^'<>]*')")
+
+
+def _name_template_arguments(report: FileReport, target: Target, refused: bool = False) -> None:
+    """An argument template: an entry whose arguments default to ``""`` (another package's
+    launch file passes them), expanded here with those empty defaults because nothing of its
+    package passes them. The xacro errors that come from an empty argument (an include of
+    ``$(arg file)``, ``float('$(arg length)')``, a property made of one) are one warning naming
+    the arguments and how to give them; what was built without them is not judged (the
+    expansion is not the robot)."""
+    texts = report.texts.values()
+    empty = {a or b for text in texts for a, b in _EMPTY_ARG.findall(text)} - set(target.args)
+    if not empty:
+        return
+    # the names that carry an empty argument: the arguments, and the properties made of them
+    # (to a fixed point: a property made of such a property)
+    carriers = {name: name for name in empty}
+    properties = [(name, value) for text in texts for name, value in _PROPERTY.findall(text)]
+    changed = True
+    while changed:
+        changed = False
+        for name, value in properties:
+            if name not in carriers:
+                cause = _mentions(value, carriers)
+                if cause is not None:
+                    carriers[name] = cause
+                    changed = True
+    causes: list[str] = []
+    first = None
+    kept = []
+    for d in report.diagnostics:
+        cause = None
+        if d.rule == "xacro.error" and d.severity == "error":
+            cause = _mentions(d.message, carriers) or _mentions(
+                _element_text(report.texts.get(d.path, ""), d.line, d.column), carriers)
+        if cause is None:
+            kept.append(d)
+            continue
+        first = first or d
+        if cause not in causes:
+            causes.append(cause)
+    if first is None:
+        return
+    names = ", ".join(f"'{name}'" for name in causes)
+    how = (f"{target.args_from} does not pass {'it' if len(causes) == 1 else 'them'}"
+           if target.args_from else
+           "no launch file urdftool read passes them (some were not read)" if refused else
+           "nothing in its package passes them (a launch file of another package may)")
+    file = Path(target.path).as_posix()
+    given = ", ".join(f'{name} = "..."' for name in causes)
+    warning = first._replace(
+        severity="warning", fix=None, instances=1, call_sites=(),
+        message=f"xacro: the entry is an argument template: {names} default"
+                f"{'s' if len(causes) == 1 else ''} to \"\" and {how}; expanded with the "
+                "empty default it fails, so it was not checked",
+        hint=f'give the arguments its launch files pass in urdftool.toml: entries = [{{ file = '
+             f'"{file}", args = {{ {given} }} }}] (or pass NAME:=VALUE)')
+    # what the expansion built without the arguments is not the robot: only what the files
+    # say as written (XML, xacro) is kept
+    report.diagnostics = [warning] + [d for d in kept if d.rule.startswith(("xml.", "xacro."))]
+
+
+def _mentions(text: str, carriers: dict[str, str]) -> str | None:
+    """The empty argument ``text`` uses, through ``$(arg NAME)``, ``xacro.arg('NAME')`` or a
+    property (``${NAME...}``) made of one."""
+    if not text:
+        return None
+    for match in re.finditer(r"\$\(arg\s+([A-Za-z_]\w*)\s*\)|xacro\.arg\(\s*[\"']([A-Za-z_]\w*)",
+                             text):
+        name = match.group(1) or match.group(2)
+        if name in carriers and carriers[name] == name:
+            return name
+    for match in re.finditer(r"\$\{([^{}]*)\}", text):
+        for word in re.findall(r"(?<![\w.'\"])[A-Za-z_]\w*", match.group(1)):
+            if word in carriers:  # a property made of an argument (often of its name)
+                return carriers[word]
+    return None
+
+
+def _element_text(text: str, line: int | None, column: int | None) -> str:
+    """The tag written at ``line`` (from the ``<`` at or before ``column``)."""
+    if not text or not line:
+        return ""
+    lines = text.splitlines()
+    if line > len(lines):
+        return ""
+    at = sum(len(t) + 1 for t in lines[:line - 1]) + max((column or 1) - 1, 0)
+    start = text.rfind("<", 0, at + 1)
+    end = text.find(">", at)
+    return text[start:end + 1] if start >= 0 and end >= 0 else lines[line - 1]
 
 
 def _declares(text: str, name: str) -> bool:
