@@ -421,3 +421,58 @@ def test_an_error_unrelated_to_the_empty_arguments_stays_an_error(tmp_path, monk
     assert ("xacro.error", "error") in found and code == 1
     assert not any("argument template" in d["message"]
                    for f in report["files"] for d in f["diagnostics"])
+
+
+ROS2_CONTROL_MACRO = f"""<?xml version="1.0"?>
+<robot {XACRO_NS}>
+  <xacro:macro name="bot_ros2_control" params="name use_mock">
+    <ros2_control name="${{name}}" type="system">
+      <hardware><plugin>mock_components/GenericSystem</plugin></hardware>
+      <xacro:if value="${{use_mock}}">
+        <xacro:include filename="bot_joints.ros2_control.xacro"/>
+      </xacro:if>
+    </ros2_control>
+  </xacro:macro>
+</robot>
+"""
+ROS2_CONTROL_JOINTS = f"""<?xml version="1.0"?>
+<robot {XACRO_NS}>
+  <joint name="j1">
+    <command_interface name="position"/>
+    <state_interface name="position"><param name="initial_value">0.0</param></state_interface>
+  </joint>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("also_at_top", [False, True])
+def test_a_fragment_included_inside_ros2_control_is_not_judged_as_urdf_joints(
+        tmp_path, monkeypatch, also_at_top):
+    """Issue 29: a fragment only ever included inside <ros2_control> (its joints carry
+    command/state interfaces) was checked alone as URDF joints: no type, parent, child."""
+    root = tmp_path / "bot_description"
+    (root / "urdf").mkdir(parents=True)
+    (root / "package.xml").write_text("<package><name>bot_description</name></package>")
+    (root / "urdf" / "bot.urdf.xacro").write_text(robot("bot", (
+        '  <xacro:arg name="use_mock" default="false"/>\n'
+        '  <xacro:include filename="bot.ros2_control.xacro"/>\n'
+        + LINK.format(name="base") + LINK.format(name="tip")
+        + JOINT.format(name="j1", parent="base", child="tip")
+        + '  <xacro:bot_ros2_control name="bot" use_mock="$(arg use_mock)"/>\n'
+        + ('  <xacro:include filename="bot_joints.ros2_control.xacro"/>\n' if also_at_top
+           else "")), xacro=True))
+    (root / "urdf" / "bot.ros2_control.xacro").write_text(ROS2_CONTROL_MACRO)
+    joints = root / "urdf" / "bot_joints.ros2_control.xacro"
+    joints.write_text(ROS2_CONTROL_JOINTS.replace("</joint>", "</joint>\n  <bad a='1' a='2'/>"))
+    monkeypatch.chdir(root)
+    code, report, _ = check(".")
+    rules = sorted(d["rule"] for f in report["files"] for d in f["diagnostics"]
+                   if f["path"] == "urdf/bot_joints.ros2_control.xacro")
+    if also_at_top:  # read by the entry as robot elements: the joint is a URDF joint there
+        assert "schema.missing-attribute" in str(report) and code == 1
+        return
+    # what the file is wrong about as written is still said
+    assert rules and all(r.startswith("xml.") for r in rules), rules
+    joints.write_text(ROS2_CONTROL_JOINTS)
+    code, report, _ = check(".")
+    assert [d for f in report["files"] for d in f["diagnostics"]] == [] and code == 0

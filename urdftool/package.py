@@ -494,7 +494,8 @@ def classify(targets: list[Target], reports: list[FileReport],
     In changed-files mode, only the reports that read a given file are kept, restricted to
     findings in the given files."""
     resolved = [real(t.path) for t in targets]
-    exact, wildcard = static_includes(reports)
+    contexts: dict[str, set[str]] = {}
+    exact, wildcard = static_includes(reports, contexts)
     includers = {path: exact.get(path, set()) | wildcard.get(path, set())
                  for path in {*exact, *wildcard}}
     configured_files = {resolved[i] for i, t in enumerate(targets) if t.configured}
@@ -525,6 +526,13 @@ def classify(targets: list[Target], reports: list[FileReport],
                for j in range(len(reports)) if j != i):
             continue  # read by another fragment shown alone: checked once, through it
         report.role = "fragment"
+        inside = contexts.get(resolved[i], set()) - {"robot"}
+        if inside and "robot" not in contexts[resolved[i]]:
+            # included only inside another element (<ros2_control>, <gazebo>, <link>): its
+            # elements are that element's children, not a robot's (a ros2_control <joint>
+            # has no type, parent or child): what it is wrong about as written is kept
+            report.diagnostics = [d for d in report.diagnostics
+                                  if d.rule.startswith(("xml.", "xacro."))]
         report.diagnostics = [d for d in report.diagnostics
                               if not _needs_robot(d.rule) and not _from_includer(d)]
         shown.append(i)
@@ -867,10 +875,13 @@ def _launch_notes(expanded: list[tuple[str, Target]]) -> list[str]:
     return notes
 
 
-def static_includes(reports: list[FileReport],
+def static_includes(reports: list[FileReport], contexts: dict[str, set[str]] | None = None,
                     ) -> tuple[dict[str, set[str]], dict[str, set[str]]]:
     """(resolved file -> the resolved files of the run whose include lines name it exactly,
-    the same for names with wildcards: a file only a pattern names may be another entry)."""
+    the same for names with wildcards: a file only a pattern names may be another entry).
+    ``contexts`` gets, per included file, the elements its include lines are in (``robot``:
+    at the top level, in a macro or a condition; ``ros2_control``, ``link``...: what the
+    included elements are children of)."""
     by_name: dict[str, list[str]] = {}
     for report in reports:
         for name in {report.path, *report.texts}:
@@ -889,12 +900,41 @@ def static_includes(reports: list[FileReport],
             seen.add(resolved)
             text = without_comments(text, keep_unclosed=False)
             defaults = _arg_defaults(text)
-            for spec in re.findall(_INCLUDE, text):
-                spec = _ARG.sub(lambda m, d=defaults: d.get(m.group(1), m.group()), spec)
+            found = list(re.finditer(_INCLUDE, text))
+            where = _enclosing(text, [m.start() for m in found]) if contexts is not None \
+                and found else []
+            for index, match in enumerate(found):
+                spec = _ARG.sub(lambda m, d=defaults: d.get(m.group(1), m.group()),
+                                match.group(1))
                 targets, pattern = _include_candidates(spec, Path(resolved).parent, by_name)
                 for target in targets:
                     (wildcard if pattern else exact).setdefault(target, set()).add(resolved)
+                    if contexts is not None:
+                        contexts.setdefault(target, set()).add(where[index])
     return exact, wildcard
+
+
+_TAG = re.compile(r"<(/?)([A-Za-z_][\w:.-]*)([^<>]*)>")
+
+
+def _enclosing(text: str, positions: list[int]) -> list[str]:
+    """For each position (ascending) of ``text``, the nearest element around it that is not
+    xacro's (a macro, a condition): ``robot`` at the top level."""
+    result, stack = [], []
+    tags = _TAG.finditer(text)
+    tag = next(tags, None)
+    for position in positions:
+        while tag is not None and tag.start() < position:
+            closing, name, rest = tag.groups()
+            if closing:
+                if name in stack:  # (a stray closer is ignored)
+                    del stack[len(stack) - 1 - stack[::-1].index(name):]
+            elif not rest.endswith("/"):
+                stack.append(name)
+            tag = next(tags, None)
+        result.append(next((name for name in reversed(stack)
+                            if not name.startswith("xacro:")), "robot"))
+    return result
 
 
 _ARG = re.compile(r"\$\(arg\s+([^)\s$]+)\s*\)")
