@@ -52,7 +52,7 @@ def command(ctx, inputs, fmt, packages, render_dir, exit_code):
     from urdftool.check import CheckOptions
     from urdftool.diff import formats
     from urdftool.diff import revisions as git
-    from urdftool.diff.run import Side, diff_files, diff_sides
+    from urdftool.diff.run import Side, diff_files, diff_sides, share_meshes
 
     literal = ctx.meta.get(_LITERAL_KEY, 0)
     values = list(inputs)
@@ -85,15 +85,21 @@ def command(ctx, inputs, fmt, packages, render_dir, exit_code):
             if merge_base and head_commit is not None:
                 base_commit = git.merge_base(repo, base_commit, head_commit)
             changed = git.changed_files(repo, base_commit, head_commit)
+            worktree = git.worktree_blobs(repo)
             base_dir = git.temporary_tree("base")
             temporaries.append(base_dir)
-            base = Side(base_rev, git.materialize(repo, base_commit, Path(base_dir.name)))
+            base_blobs = git.materialize(repo, base_commit, Path(base_dir.name), worktree)
+            base = Side(base_rev, Path(base_dir.name), blobs=base_blobs)
             if head_commit is None:
-                head = Side(git.WORKTREE, repo)
+                head = Side(git.WORKTREE, repo, blobs=worktree)
+                share_meshes(base.tree, base_blobs, repo, worktree)
             else:
                 head_dir = git.temporary_tree("head")
                 temporaries.append(head_dir)
-                head = Side(head_rev, git.materialize(repo, head_commit, Path(head_dir.name)))
+                head_blobs = git.materialize(repo, head_commit, Path(head_dir.name), worktree)
+                head = Side(head_rev, Path(head_dir.name), blobs=head_blobs)
+                share_meshes(head.tree, head_blobs, repo, worktree)  # (CI: HEAD is checked
+                share_meshes(base.tree, base_blobs, head.tree, head_blobs)  # out: its cache)
             robots = diff_sides(base, head, options, changed,
                                 [_in_repository(limit, repo) for limit in limits])
         else:

@@ -70,10 +70,9 @@ def _split(out: bytes) -> list[str]:
     return [name.decode("utf-8", "surrogateescape") for name in out.split(b"\0") if name]
 
 
-def materialize(repo: Path, revision: str, destination: Path) -> Path:
-    """Write the files of ``revision`` (a commit hash) under ``destination`` from git objects:
-    regular files with their executable bit, symbolic links as links (the loader refuses one
-    that leads out of the run's roots), no submodules. Returns ``destination``."""
+def blobs(repo: Path, revision: str) -> list[tuple[bytes, bytes, str]]:
+    """(mode, blob id, path) of every file of ``revision``; no submodules, no path that
+    climbs out or into ``.git``."""
     listing = _git(repo, "ls-tree", "-r", "-z", "--full-tree", revision)
     entries = []
     for record in listing.split(b"\0"):
@@ -88,8 +87,37 @@ def materialize(repo: Path, revision: str, destination: Path) -> Path:
         if not parts or any(p in ("..", ".git") for p in parts) or Path(path).is_absolute():
             continue
         entries.append((mode, sha, path))
+    return entries
+
+
+def worktree_blobs(repo: Path) -> dict[str, str]:
+    """Path -> blob id of the working tree's files that hold HEAD's bytes (not changed since
+    HEAD, staged or not)."""
+    changed = set(changed_files(repo, "HEAD", None))
+    return {path: sha.decode() for _, sha, path in blobs(repo, "HEAD") if path not in changed}
+
+
+def materialize(repo: Path, revision: str, destination: Path,
+                same: dict[str, str] | None = None) -> dict[str, str]:
+    """Write the files of ``revision`` (a commit hash) under ``destination`` from git objects:
+    regular files with their executable bit, symbolic links as links (the loader refuses one
+    that leads out of the run's roots), no submodules. A file whose blob the working tree
+    holds unchanged (``same``: ``worktree_blobs``) is linked or copied from it rather than
+    read through git (a description's meshes: tens of megabytes). Returns path -> blob id."""
+    entries = blobs(repo, revision)
     if not entries:
-        return destination
+        return {}
+    every = {path: sha.decode() for _, sha, path in entries}
+    if same:
+        rest = []
+        for mode, sha, path in entries:
+            if mode != b"120000" and same.get(path) == sha.decode() and \
+                    _reuse(repo / path, destination / path, mode):
+                continue
+            rest.append((mode, sha, path))
+        entries = rest
+        if not entries:
+            return every
     process = subprocess.Popen(["git", *_SAFE, "-C", str(repo), "cat-file", "--batch"],
                                stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                stderr=subprocess.DEVNULL,
@@ -121,7 +149,28 @@ def materialize(repo: Path, revision: str, destination: Path) -> Path:
         if process.stdout is not None:
             process.stdout.close()
         process.wait()
-    return destination
+    return every
+
+
+def _reuse(source: Path, target: Path, mode: bytes) -> bool:
+    """``source`` (a regular file of the working tree) hard-linked, else copied, to ``target``;
+    False when neither can be done (then it is read from git)."""
+    import shutil
+    import stat
+
+    try:
+        if not stat.S_ISREG(os.lstat(source).st_mode):
+            return False
+        target.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            os.link(source, target)
+        except OSError:
+            shutil.copyfile(source, target, follow_symlinks=False)
+            if mode == b"100755":
+                os.chmod(target, 0o755)
+    except OSError:
+        return False
+    return True
 
 
 def temporary_tree(prefix: str) -> tempfile.TemporaryDirectory:

@@ -64,6 +64,7 @@ class Side(NamedTuple):
     label: str
     tree: Path
     entry_file: str | None = None  # a snapshot file: its findings are named as the other's
+    blobs: dict = {}  # noqa: RUF012 - path in the tree -> git blob id, where known (never mutated)
 
 
 def relative(path: str | None, tree: Path) -> str | None:
@@ -152,11 +153,16 @@ def side_entries(side: Side, options: CheckOptions, changed: list[str] | None,
 
 
 class Meshes:
-    """A mesh geometry's content at one side: a digest of the file (memoised by path) and,
-    when two differ, its summary (``physics.meshes.load_mesh``: bounding box and volume)."""
+    """A mesh geometry's content at one side: its git blob id (known from the revision, or
+    computed from the file as git does, memoised by path) and, when two differ, its summary
+    (``physics.meshes.load_mesh``: bounding box and volume)."""
 
-    def __init__(self):
+    def __init__(self, *sides: Side):
         self._digests: dict[str, str | None] = {}
+        for side in sides:
+            root = os.path.realpath(side.tree)
+            for path, blob in side.blobs.items():
+                self._digests[os.path.join(root, path)] = blob
 
     def _path(self, robot, geometry):
         from urdftool.physics.meshes import resolve
@@ -177,7 +183,8 @@ class Meshes:
             from urdftool.physics.meshes import MAX_MESH_BYTES
 
             try:
-                self._digests[key] = hashlib.sha256(read_regular(key, MAX_MESH_BYTES)).hexdigest()
+                data = read_regular(key, MAX_MESH_BYTES)
+                self._digests[key] = hashlib.sha1(b"blob %d\0" % len(data) + data).hexdigest()
             except OSError:
                 self._digests[key] = None
         return self._digests[key]
@@ -247,7 +254,7 @@ def _failure(entry: Entry) -> str | None:
 
 def diff_entries(base_side: Side, head_side: Side, base: dict, head: dict,
                  keys: list[tuple]) -> list[RobotDiff]:
-    meshes = Meshes()
+    meshes = Meshes(base_side, head_side)
     robots = []
     for key in keys:
         a, b = base.get(key), head.get(key)
@@ -277,11 +284,22 @@ def diff_sides(base_side: Side, head_side: Side, options: CheckOptions,
                changed: list[str] | None, limits: list[str]) -> list[RobotDiff]:
     """The robots of two sides compared. ``changed``: the files the change touched (relative
     to the trees), or None for two snapshots (every entry of each)."""
-    base, base_touched = side_entries(base_side, options, changed, limits)
-    head, head_touched = side_entries(head_side, options, changed, limits)
+    head, head_touched = side_entries(head_side, options, changed, limits)  # first: BASE's
+    base, base_touched = side_entries(base_side, options, changed, limits)  # meshes share
     touched = base_touched | head_touched
     keys = sorted(touched)
     return diff_entries(base_side, head_side, base, head, keys)
+
+
+def share_meshes(tree: Path, blobs: dict[str, str], other: Path,
+                 other_blobs: dict[str, str]) -> None:
+    """Mesh files of a revision's tree that hold the same git blob as a file of ``other`` (the
+    working tree, or the other revision's tree): summarised once (``meshes.same_content``)."""
+    from urdftool.physics.meshes import LOADABLE, same_content
+
+    for path, blob in blobs.items():
+        if other_blobs.get(path) == blob and os.path.splitext(path)[1].lower() in LOADABLE:
+            same_content(tree / path, other / path)
 
 
 def diff_files(old: Path, new: Path, options: CheckOptions) -> list[RobotDiff]:

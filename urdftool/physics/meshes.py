@@ -115,6 +115,7 @@ def clear_cache() -> None:
     global LOADS
     _CACHE.clear()
     _STAMPS.clear()
+    _SAME.clear()
     _COLUMNS.clear()
     LOADS = 0
 
@@ -187,8 +188,46 @@ def load_mesh(path: Path | str, need_volume: bool = False) -> MeshInfo:
     info = _CACHE.get(key)
     if info is None or (need_volume and not info.has_volume and info.ok):
         _STAMPS[key] = _stamp(key)
-        info = _CACHE[key] = _stored_or_load(Path(key), need_volume)
+        known = _known(_SAME.get(key), need_volume)
+        if known is not None:  # the same bytes elsewhere, already summarised
+            from dataclasses import replace
+
+            from urdftool import files
+
+            files.note(key)
+            info = _CACHE[key] = replace(known, path=key)
+        else:
+            info = _CACHE[key] = _stored_or_load(Path(key), need_volume)
     return info
+
+
+def _known(path: str | None, need_volume: bool, depth: int = 0) -> MeshInfo | None:
+    """A summary of ``path`` this process or the persistent cache already holds (following
+    ``same_content``), never read from the file here; None when there is none."""
+    if path is None or depth > 8:
+        return None
+    info = _CACHE.get(path)
+    if info is None and Path(path).suffix.lower() in LOADABLE:
+        from urdftool import cache
+
+        key = cache.stamp(Path(path))
+        info = _decode(Path(path), cache.read("mesh", key)) if key is not None else None
+    if info is not None and (info.has_volume or not need_volume or not info.ok) and \
+            not missing_library(info) and not (info.error or "").startswith(TRANSIENT):
+        return info
+    return _known(_SAME.get(path), need_volume, depth + 1)
+
+
+_SAME: dict[str, str] = {}  # a file -> another with the same bytes (``same_content``)
+
+
+def same_content(path: Path | str, twin: Path | str) -> None:
+    """Say that ``path`` holds the same bytes as ``twin`` (``urdftool diff``: a revision's
+    temporary tree and the working tree or the other revision's tree, from their git blob
+    ids): ``load_mesh(path)`` gives the summary this process or the persistent cache holds of
+    ``twin`` (never reading ``twin`` itself: it may lie outside the run's roots), else reads
+    ``path``."""
+    _SAME[resolved(path)] = resolved(twin)
 
 
 def _stored_or_load(path: Path, need_volume: bool) -> MeshInfo:
