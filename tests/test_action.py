@@ -39,9 +39,10 @@ def _workflow_step() -> dict:
 
 class Run:
     def __init__(self, code: int, output: str, calls: list[list[str]], cache_step: dict | None,
-                 runner_temp: Path):
+                 runner_temp: Path, summary: str = "", artifact: dict | None = None):
         self.code, self.output, self.calls = code, output, calls
         self.cache_step, self.runner_temp = cache_step, runner_temp
+        self.summary, self.artifact = summary, artifact  # $GITHUB_STEP_SUMMARY, upload-artifact
 
     def annotations(self) -> list[str]:
         """The annotations on a file."""
@@ -82,7 +83,21 @@ def run_action(repo: Path, inputs: dict, github: dict) -> Run:
         return re.sub(r"\$\{\{\s*(inputs|github|runner|steps\.[\w-]+\.outputs)\.([\w-]+)\s*\}\}",
                       value, text)
 
+    def condition(text: str | None) -> bool:  # the `if:` forms action.yml uses, joined by &&
+        if text is None:
+            return True
+        for part in text.split("&&"):
+            scope, name, op, wanted = re.fullmatch(
+                r"\s*(inputs|github)\.([\w-]+) (==|!=) '(\w*)'\s*", part).groups()
+            actual = values[name] if scope == "inputs" else github.get(name, "")
+            if (actual == wanted) != (op == "=="):
+                return False
+        return True
+
+    summary_file = work / "step-summary.md"
+    artifact = None
     env = {**os.environ, "GITHUB_ACTION_PATH": str(ROOT), "CI": "true", "GITHUB_ACTIONS": "true",
+           "GITHUB_STEP_SUMMARY": str(summary_file),
            "RUNNER_TEMP": str(temp), "RUNNER_OS": "Linux", "GITHUB_WORKSPACE": str(repo),
            "XDG_CACHE_HOME": str(work / "xdg"),
            "PATH": f"{shims}{os.pathsep}{Path(sys.executable).parent}{os.pathsep}"
@@ -94,14 +109,19 @@ def run_action(repo: Path, inputs: dict, github: dict) -> Run:
     for step in action["runs"]["steps"]:
         if "uses" in step:
             if step["uses"].startswith("actions/cache@"):
-                name, wanted = re.fullmatch(r"inputs\.([\w-]+) == '(\w+)'", step["if"]).groups()
-                if values[name] == wanted:
+                if condition(step["if"]):
                     cache_step = {k: substitute(str(v)) for k, v in step["with"].items()}
+                continue
+            if step["uses"].startswith("actions/upload-artifact@"):
+                if condition(step["if"]):
+                    artifact = {k: substitute(str(v)) for k, v in step["with"].items()}
                 continue
             assert step["uses"].startswith("actions/setup-python@")
             continue
         if step["name"] == "Install urdftool":
-            assert '"${GITHUB_ACTION_PATH}[mesh]"' in step["run"]
+            assert '"${GITHUB_ACTION_PATH}[$extras]"' in step["run"] and "extras=mesh" in step["run"]
+            continue
+        if not condition(step.get("if")):
             continue
         assert "${{" not in step["run"]  # inputs only through the environment
         github_output = work / f"output-{step.get('id', 'step')}"
@@ -118,7 +138,8 @@ def run_action(repo: Path, inputs: dict, github: dict) -> Run:
             break
     logged = [json.loads(line) for line in calls.read_text().splitlines()] \
         if calls.exists() else []
-    return Run(code, output, logged, cache_step, temp)
+    return Run(code, output, logged, cache_step, temp,
+               summary_file.read_text() if summary_file.exists() else "", artifact)
 
 
 def _git(cwd: Path, *args: str) -> str:
@@ -267,3 +288,26 @@ def test_file_names_never_become_options(repo, mode):
     assert sorted(p.name for p in repo.iterdir()) == sorted(before + ["out.sarif"])
     results = json.loads((repo / "out.sarif").read_text())["runs"][0]["results"]
     assert len(results) == len(checked)
+
+
+def test_diff_summary_on_a_pull_request(repo):
+    """`diff-summary`: the pull request's effect on each robot in the job summary (markdown,
+    from the merge base), pictures as an artifact, and the check's verdict as before."""
+    _pull_request(repo)
+    limits = repo / "src" / "arm_description" / "config" / "joint_limits.yaml"
+    limits.write_text(limits.read_text().replace("upper: 1.5", "upper: 1.25"))
+    _git(repo, "commit", "-qam", "a tighter limit")
+    run = run_action(repo, {"changed-files": "true", "diff-summary": "true",
+                            "diff-pictures": "true", "args": SLOW}, {"base_ref": "main"})
+    assert run.code == 0, run.output
+    assert [c[0] for c in run.calls] == ["diff", "check"]
+    assert run.calls[0][-1] == "origin/main...HEAD"
+    assert "## urdftool diff: origin/main → HEAD" in run.summary
+    assert "**joint shoulder** limit.upper: joint 'shoulder' limit upper 1.5 -\\> 1.25" in run.summary
+    assert "![before](" in run.summary and "the artifact `urdftool-diff`" in run.summary
+    assert run.artifact == {"name": "urdftool-diff", "path": str(run.runner_temp / "urdftool-diff"),
+                            "if-no-files-found": "ignore"}
+    assert len(list((run.runner_temp / "urdftool-diff").glob("*.png"))) == 2
+    # not a pull request: no diff, no artifact
+    push = run_action(repo, {"diff-summary": "true", "args": SLOW}, {})
+    assert [c[0] for c in push.calls] == ["check"] and push.summary == "" and push.artifact is None
