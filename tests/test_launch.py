@@ -216,3 +216,62 @@ def test_the_command_lines_arguments_replace_the_launch_files_choices(tmp_path, 
     assert [e["args"] for e in entries] == [{"model": "blackfly"}]
     assert ("blackfly.urdf.xacro", "joint.lower-above-upper") in {
         (Path(d["path"]).name, d["rule"]) for d in entries[0]["diagnostics"]}
+
+
+CONDITIONAL_XML = """<launch>
+  <arg name="arm" default="gen3"/>
+  <arg name="dof" default="7" if="$(eval arg('arm') == 'gen3')"/>
+  <arg name="dof" default="6" if="$(eval arm == 'gen3_lite')"/>
+  <arg name="dof" default="5" unless="true"/>
+  <arg name="sim" default="false"/>
+  <param name="robot_description" command="$(find xacro)/xacro $(find cam_description)/urdf/display.urdf.xacro model:=arm$(arg dof)"/>
+  <group if="$(arg sim)">
+    <param name="robot_description" command="xacro $(find cam_description)/urdf/display.urdf.xacro model:=sim$(arg dof)"/>
+  </group>
+</launch>
+"""
+CONDITIONAL_PYTHON = """
+from launch.conditions import IfCondition, UnlessCondition
+from launch.substitutions import PythonExpression
+
+def generate_launch_description():
+    arm = LaunchConfiguration('arm')
+    file = PathJoinSubstitution([FindPackageShare('cam_description'), 'urdf', 'display.urdf.xacro'])
+    seven = Command(['xacro ', file, ' model:=arm7'])
+    six = Command(['xacro ', file, ' model:=arm6'])
+    return LaunchDescription([
+        DeclareLaunchArgument('arm', default_value='gen3'),
+        DeclareLaunchArgument('gripper', default_value='false'),
+        Node(parameters=[{'robot_description': seven}],
+             condition=IfCondition(PythonExpression(["'", arm, "' == 'gen3'"]))),
+        Node(parameters=[{'robot_description': six}],
+             condition=UnlessCondition(PythonExpression(["'", arm, "' == 'gen3'"]))),
+        Node(parameters=[{'robot_description': Command(['xacro ', file, ' model:=grip'])}],
+             condition=IfCondition(LaunchConfiguration('gripper'))),
+        Node(parameters=[{'robot_description': Command(['xacro ', file, ' model:=unknown'])}],
+             condition=IfCondition(LaunchConfiguration('not_declared'))),
+    ])
+"""
+
+
+@pytest.mark.parametrize("launch_name, text, expected", [
+    ("arm.launch", CONDITIONAL_XML, [{"model": "arm7"}]),
+    ("arm.launch.py", CONDITIONAL_PYTHON, [{"model": "arm7"}, {"model": "unknown"}]),
+])
+def test_conditions_choose_the_arguments_a_launch_file_passes(tmp_path, launch_name, text,
+                                                              expected):
+    """Issue 29: `<arg if=...>` and IfCondition/UnlessCondition were ignored: the 6-DOF
+    variant was checked while the launch file passes dof:=7 (the last declaration won). A
+    condition that cannot be known (an undeclared argument) holds."""
+    root = _package(tmp_path, launch_name, text)
+    found = launch_arguments(root)["urdf/display.urdf.xacro"]
+    assert [args for args, _ in found] == expected
+
+
+def test_an_included_launch_file_s_conditions_see_what_its_includer_passes(tmp_path):
+    root = _package(tmp_path, "arm.launch", CONDITIONAL_XML)
+    (root / "launch" / "lite.launch").write_text(
+        '<launch><include file="$(find cam_description)/launch/arm.launch">'
+        '<arg name="arm" value="gen3_lite"/><arg name="sim" value="true"/></include></launch>')
+    found = launch_arguments(root)["urdf/display.urdf.xacro"]
+    assert sorted(args["model"] for args, _ in found) == ["arm6", "sim6"]

@@ -15,6 +15,12 @@ entities). A launch file's xacro invocations are found and resolved as launch re
 - an XML launch file that other launch files include (``<include file>``, with ``<arg name
   value>`` or ``pass_all_args``) is resolved once per includer, with what each passes; a
   required Python launch argument with ``choices`` once per choice;
+- conditions are honoured where they can be known: an XML ``<arg>`` or element (and the
+  elements inside it) with ``if``/``unless`` (``true``/``false``/``1``/``0``, an argument,
+  ``$(eval ...)`` over the arguments, evaluated by urdftool's expression interpreter), a
+  Python action with ``condition=IfCondition(...)``/``UnlessCondition(...)`` (of a launch
+  argument or a ``PythonExpression``), also where a variable holding the command is used;
+  a condition that cannot be known holds;
 - the file name is matched against the package's xacro files: a launch argument left unbound
   in it (``robot_$(arg model).urdf.xacro``) matches any text, and each file it matches is its
   own entry, with the matched text as that argument.
@@ -83,7 +89,8 @@ def launch_arguments(root: Path, refused: list[tuple[Path, str]] | None = None,
             commands = _python(text)
         else:
             commands = [(parts, binding) for binding in _xml_bindings(path, xml)
-                        for parts in xml[path].commands]
+                        for parts, conditions in xml[path].commands
+                        if _holds([conditions], binding, package, root)]
         for parts, binding in commands:
             invocation = _invocation(_tokens(parts), binding)
             if invocation is None:
@@ -274,8 +281,9 @@ def _match(pieces: list, index: int, text: str, captured: dict[str, str],
 
 
 def _text(value: list, binding: dict[str, list], package: str | None, root: Path,
-          depth: int) -> str | None:
-    """A value's text under ``binding``, or None when a part cannot be known."""
+          depth: int, unquote: bool = True) -> str | None:
+    """A value's text under ``binding``, or None when a part cannot be known (``unquote``:
+    as a command line's word, see ``_unquote``)."""
     out = []
     for part in value:
         if isinstance(part, str):
@@ -289,7 +297,7 @@ def _text(value: list, binding: dict[str, list], package: str | None, root: Path
             out.append(str(root))
         else:
             return None
-    return _unquote("".join(out).strip())
+    return _unquote("".join(out).strip()) if unquote else "".join(out)
 
 
 def _unquote(text: str) -> str:
@@ -298,6 +306,84 @@ def _unquote(text: str) -> str:
     while len(text) >= 2 and text[0] == text[-1] and text[0] in "'\"":
         text = text[1:-1]
     return text
+
+
+# -- conditions -------------------------------------------------------------------------------
+# a condition: ("if" | "unless", value parts) for an XML attribute or IfCondition(value), or
+# ("if" | "unless", ("python", parts)) for IfCondition(PythonExpression(parts)); a command holds
+# under a binding when one of its alternatives (a list of conditions) all hold
+
+
+def _holds(alternatives: list[list], binding: dict[str, list], package: str | None,
+           root: Path) -> bool:
+    """Whether a command (or an argument declaration) is reached under ``binding``: some
+    alternative whose conditions are all true or unknown."""
+    return any(all(_truth(condition, binding, package, root) is not False
+                   for condition in conditions) for conditions in alternatives)
+
+
+def _truth(condition, binding: dict[str, list], package: str | None, root: Path) -> bool | None:
+    """The value of one ``if``/``unless`` condition, or None when it cannot be known."""
+    kind, value = condition
+    if isinstance(value, tuple) and value[0] == "python":  # PythonExpression([...])
+        text = _text(value[1], binding, package, root, 0, unquote=False)
+        result = _evaluate(text, {}) if text is not None else None
+    else:
+        result = _condition_value(value, binding, package, root)
+    if result is None:
+        return None
+    return result if kind == "if" else not result
+
+
+def _condition_value(value, binding, package, root) -> bool | None:
+    if len(value) == 1 and isinstance(value[0], tuple) and value[0][0] == "eval":
+        arguments = {}
+        for name in binding:
+            text = _text(binding[name], binding, package, root, 0)
+            if text is not None:
+                arguments[name] = text
+        return _evaluate(value[0][1], arguments)
+    text = _text(value, binding, package, root, 0)
+    if text is None:
+        return None
+    return _boolean(text)
+
+
+def _boolean(text) -> bool | None:
+    """A launch condition's text as launch reads it (true/false/1/0, any case)."""
+    if isinstance(text, bool):
+        return text
+    lowered = str(text).strip().lower()
+    if lowered in ("true", "1"):
+        return True
+    if lowered in ("false", "0"):
+        return False
+    return None
+
+
+def _evaluate(expression: str, arguments: dict[str, str]) -> bool | None:
+    """``$(eval EXPR)``/``PythonExpression`` by urdftool's interpreter (never ``eval``): the
+    launch arguments by name and through ``arg('NAME')``; None when it cannot be evaluated."""
+    import time
+
+    from urdftool.xacro_eval import Interpreter
+
+    def arg(name):
+        return arguments[name]
+
+    for name in re.findall(r"\$\((?:arg|var)\s+([^)\s]+)\s*\)", expression):
+        if name not in arguments:
+            return None
+        expression = expression.replace(f"$(arg {name})", arguments[name]).replace(
+            f"$(var {name})", arguments[name])
+    try:
+        value = Interpreter(time.monotonic() + 0.5).evaluate_substitution(
+            expression, arguments, {"arg": arg})
+    except Exception:  # noqa: BLE001 - an unknown name, a syntax error: not known
+        return None
+    if isinstance(value, str):
+        return _boolean(value)
+    return bool(value)
 
 
 # -- Python launch files ------------------------------------------------------------------------
@@ -310,7 +396,7 @@ def _python(text: str) -> list[tuple[list, dict[str, list]]]:
     except (SyntaxError, ValueError, RecursionError, MemoryError):
         return []
     reader = _PythonLaunch(tree)
-    commands: list[list] = []
+    commands: list[tuple[list, list]] = []
     seen = set()
     for node in ast.walk(tree):
         parts = None
@@ -329,9 +415,10 @@ def _python(text: str) -> list[tuple[list, dict[str, list]]]:
             parts = reader.value(node)
         if parts is not None and repr(parts) not in seen:
             seen.add(repr(parts))
-            commands.append(parts)
+            commands.append((parts, reader.conditions(node)))
     bindings = reader.bindings()
-    return [(parts, binding) for parts in commands for binding in bindings]
+    return [(parts, binding) for parts, alternatives in commands for binding in bindings
+            if _holds(alternatives, binding, None, Path())]
 
 
 class _PythonLaunch:
@@ -341,6 +428,13 @@ class _PythonLaunch:
     def __init__(self, tree):
         self.tree = tree
         self.assigned: dict[str, list] = {}
+        self.parents: dict[int, ast.AST] = {}
+        self.uses: dict[str, list] = {}  # variable -> the nodes that read it
+        for node in ast.walk(tree):
+            for child in ast.iter_child_nodes(node):
+                self.parents[id(child)] = node
+            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load):
+                self.uses.setdefault(node.id, []).append(node)
         for node in ast.walk(tree):
             if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(
                     node.targets[0], ast.Name):
@@ -440,6 +534,38 @@ class _PythonLaunch:
             return [ANY]
         return None
 
+    def conditions(self, node, depth: int = 0) -> list[list]:
+        """The alternatives (lists of conditions, all of which must hold) under which ``node``
+        is reached: the ``condition=IfCondition(...)``/``UnlessCondition(...)`` of the calls
+        around it; where it is assigned to a variable, those around each use of it."""
+        found: list = []
+        while node is not None:
+            parent = self.parents.get(id(node))
+            if isinstance(node, ast.Call):
+                condition = _keyword_node(node, "condition")
+                if isinstance(condition, ast.Call) and _called(condition) in (
+                        "IfCondition", "UnlessCondition") and condition.args:
+                    kind = "if" if _called(condition) == "IfCondition" else "unless"
+                    found.append((kind, self._condition_value(condition.args[0])))
+            if (isinstance(parent, ast.Assign) and len(parent.targets) == 1
+                    and isinstance(parent.targets[0], ast.Name) and depth < 4
+                    and len(self.assigned.get(parent.targets[0].id, [])) == 1):
+                uses = self.uses.get(parent.targets[0].id, [])
+                if uses:
+                    return [found + alternative for use in uses
+                            for alternative in self.conditions(use, depth + 1)]
+            node = parent
+        return [found]
+
+    def _condition_value(self, node):
+        """IfCondition's argument: a PythonExpression's parts, or a value's parts (None
+        parts: unknown, a condition that holds)."""
+        if isinstance(node, ast.Call) and _called(node) == "PythonExpression" and node.args:
+            parts = self.value(node.args[0])
+            return ("python", parts) if parts is not None else [ANY]
+        parts = self.value(node)
+        return parts if parts is not None else [ANY]
+
     def bindings(self) -> list[dict[str, list]]:
         """The launch arguments' values: their defaults; a required one with choices, once
         per choice (at most MAX_SETS bindings)."""
@@ -475,7 +601,10 @@ class _XmlLaunch:
         self.defaults: dict[str, list] = {}
         self.fixed: set[str] = set()
         self.includes: list[tuple[str, dict[str, list], bool]] = []
-        self.commands: list[list] = []  # the parts of every attribute naming a .xacro
+        # the parts of every attribute naming a .xacro, with the conditions it is under
+        self.commands: list[tuple[list, list]] = []
+        # every <arg> with a value: (name, parts, fixed, conditions), in the file's order
+        self.declared: list[tuple[str, list, bool, list]] = []
         root = _parse_xml(text)
         if root is None:
             return
@@ -486,9 +615,11 @@ class _XmlLaunch:
             name = arg.get("name")
             value = arg.get("value", arg.get("default"))
             if name and value is not None:
-                self.defaults[name] = _xml_parts(value)
-                if arg.get("value") is not None:
+                fixed = arg.get("value") is not None
+                self.declared.append((name, _xml_parts(value), fixed, _xml_conditions(arg)))
+                if fixed:
                     self.fixed.add(name)
+        self.defaults = self.values({})
         for include in root.iter("include"):
             file = include.get("file", "")
             passed = {a.get("name"): _xml_parts(a.get("value", a.get("default", "")))
@@ -502,7 +633,20 @@ class _XmlLaunch:
                 continue
             for value in element.attrib.values():
                 if ".xacro" in value:
-                    self.commands.append(_xml_parts(value))
+                    self.commands.append((_xml_parts(value), _xml_conditions(element)))
+
+    def values(self, passed: dict[str, list], package: str | None = None,
+               root: Path | None = None) -> dict[str, list]:
+        """The arguments' values when an includer passes ``passed``: in the file's order,
+        a declaration whose ``if``/``unless`` is false is not made; a passed value replaces
+        a default, never a fixed ``value``."""
+        binding: dict[str, list] = {}
+        for name, parts, fixed, conditions in self.declared:
+            if conditions and not _holds([conditions], {**binding, **passed}, package,
+                                         root or Path()):
+                continue
+            binding[name] = parts if fixed or name not in passed else passed[name]
+        return binding
 
 
 def _parse_xml(text: str):
@@ -532,6 +676,22 @@ def _inside_command(value: str) -> str:
     if len(body) >= 2 and body[0] in "'\"" and body[-1] == body[0]:
         return body[1:-1]
     return body
+
+
+def _xml_conditions(element) -> list:
+    """The ``if``/``unless`` conditions of ``element`` and of the elements around it."""
+    conditions = []
+    while element is not None and isinstance(element.tag, str):
+        for kind in ("if", "unless"):
+            value = element.get(kind)
+            if value is not None:
+                stripped = value.strip()
+                if stripped.startswith("$(eval") and stripped.endswith(")"):
+                    conditions.append((kind, [("eval", stripped[len("$(eval"):-1].strip())]))
+                else:
+                    conditions.append((kind, _xml_parts(value)))
+        element = element.getparent()
+    return conditions
 
 
 def _xml_parts(value: str) -> list:
@@ -570,12 +730,11 @@ def _xml_bindings(path: Path, launches: dict[Path, _XmlLaunch]) -> list[dict[str
             if name != path.name:
                 continue
             outer = dict(other.defaults)
-            binding = dict(own.defaults)
-            if all_args:
-                binding.update({k: v for k, v in outer.items() if k not in own.fixed})
-            for key, value in passed.items():
-                if key not in own.fixed:
-                    binding[key] = _bind(value, outer)
+            given = {k: v for k, v in outer.items() if k not in own.fixed} if all_args else {}
+            given.update({key: _bind(value, outer) for key, value in passed.items()
+                          if key not in own.fixed})
+            binding = own.values(given)
+            binding.update({k: v for k, v in given.items() if k not in binding})
             bindings.append(binding)
     return bindings[:MAX_SETS] if bindings else [dict(own.defaults)]
 

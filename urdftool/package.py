@@ -914,7 +914,7 @@ def static_includes(reports: list[FileReport], contexts: dict[str, set[str]] | N
     return exact, wildcard
 
 
-_TAG = re.compile(r"<(/?)([A-Za-z_][\w:.-]*)([^<>]*)>")
+_TAG = re.compile(r"<(/?)([A-Za-z_][\w:.-]*)(?![\w:.-])([^<>]*)>")
 
 
 def _enclosing(text: str, positions: list[int]) -> list[str]:
