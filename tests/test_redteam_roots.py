@@ -6,12 +6,16 @@ script in bash), the hook (the real ``pre-commit`` running .pre-commit-hooks.yam
 
 from __future__ import annotations
 
+import re
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
-from tests.test_action import _git, run_action
+from tests.test_action import PACKAGES, _git, run_action
+from tests.test_precommit import _commit, _env, _repo, _shipped_config, shipped  # noqa: F401
 
 pytestmark = pytest.mark.skipif(shutil.which("git") is None, reason="git is not installed")
 
@@ -85,3 +89,57 @@ def test_action_paths_that_are_links_into_another_checkout_are_no_root(tmp_path)
     run = run_action(repo, {"paths": "vendor robot_description"}, {"base_ref": "main"})
     assert SECRET not in run.output, run.output
     assert run.code == 1 and "xacro.error" in run.output, run.output
+
+
+def _relative_includes(root: Path) -> Path:
+    """demo_description with its entry including wheel.xacro by a relative name."""
+    package = root / "demo_description"
+    shutil.copytree(PACKAGES / "demo_description", package)
+    entry = package / "urdf" / "robot.urdf.xacro"
+    entry.write_text(entry.read_text().replace(
+        'filename="$(find demo_description)/urdf/wheel.xacro"', 'filename="wheel.xacro"'))
+    return entry
+
+
+def _include_line(entry: Path) -> int:
+    return next(n for n, t in enumerate(entry.read_text().splitlines(), 1)
+                if 'filename="wheel.xacro"' in t)
+
+
+def test_action_a_deleted_relative_include_fails_the_pull_request(tmp_path):
+    """Issue 28.7: a pull request deleting a file its entry includes by a relative name passed
+    the changed-files gate (the finding was kept only when its message named the absolute
+    path). The entry's reads graph says where it asked for the deleted file."""
+    repo = tmp_path / "team"
+    entry = _relative_includes(repo)
+    _git(tmp_path, "init", "-q", str(repo))
+    _git(repo, "add", "-A")
+    _git(repo, "commit", "-qm", "base")
+    _git(repo, "update-ref", "refs/remotes/origin/main", "HEAD")
+    _git(repo, "rm", "-q", "demo_description/urdf/wheel.xacro")
+    _git(repo, "commit", "-qm", "the pull request deletes a fragment")
+    run = run_action(repo, {"changed-files": "true"}, {"base_ref": "main"})
+    assert run.code == 1, run.output
+    listed = [line for line in run.output.splitlines() if "xacro.error" in line]
+    assert len(listed) == 1, run.output
+    assert f"demo_description/urdf/robot.urdf.xacro:{_include_line(entry)}:" in listed[0]
+
+
+def test_hook_a_deleted_relative_include_blocks_the_commit(shipped, tmp_path):  # noqa: F811
+    """The hook is never given a deleted file (pre-commit passes what a commit adds or
+    changes): a commit that deletes the relative include and retouches another fragment of
+    the same entry passed. The entry's last reads (the reads cache) name the deleted file."""
+    repo = _repo(tmp_path / "team", _shipped_config(shipped))
+    entry = _relative_includes(repo)
+    env = _env(shipped[2])
+    subprocess.run([sys.executable, "-m", "pre_commit", "install"], cwd=repo, env=env,
+                   check=True, capture_output=True)
+    first = _commit(repo, env, "a clean package")
+    assert first.returncode == 0, first.stdout
+    (repo / "demo_description" / "urdf" / "wheel.xacro").unlink()
+    materials = repo / "demo_description" / "urdf" / "materials.xacro"
+    materials.write_text(materials.read_text() + "\n")
+    blocked = _commit(repo, env, "wheel.xacro goes")
+    assert blocked.returncode != 0, blocked.stdout
+    assert re.search(rf"demo_description/urdf/robot\.urdf\.xacro:{_include_line(entry)}:\d+: "
+                     r"error xacro\.error", blocked.stdout), blocked.stdout

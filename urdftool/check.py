@@ -27,6 +27,7 @@ from urdftool.package import (
     Selection,
     Target,
     classify,
+    gone,
     other_inputs,
     plan,
     role,
@@ -349,8 +350,9 @@ def finish(source, robot, diagnostics: list[Diagnostic], texts: dict[str, str]) 
                                     d.rule))
     report = FileReport(source.path, robot.name, diagnostics, texts)
     report.args = {}
-    report.includes = tuple(sorted({real(p) for p in texts
-                                    if p != source.path} | other_inputs(source, robot)))
+    read, missing = other_inputs(source, robot)
+    report.includes = tuple(sorted({real(p) for p in texts if p != source.path} | read))
+    report.missing = missing
     report.role = role(source, robot)
     return report
 
@@ -461,6 +463,8 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
         # one budget for the run: --timeout for each distinct file found (a file listed many
         # times in the configuration's entries shares its own)
         budget.start(options.load.timeout, len({real(f.path) for f in files}), started)
+        if given is not None:  # what the checks read last time and is gone: deleted too
+            given |= gone(files, options.load)
         todo, reports, waiting = unaffected(files, given, options.load)  # changed files:
         checked = _check_targets(files, todo, options, progress)  # what reads them
         for i, report in zip(todo, checked):

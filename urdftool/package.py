@@ -545,19 +545,18 @@ def classify(targets: list[Target], reports: list[FileReport],
         notes.extend(selection.unused())
     if given is not None:
         kept, elsewhere = [], 0
-        deleted = sorted(p for p in given if not os.path.lexists(p))
-
-        def given_or_deleted(d) -> bool:  # a finding in a given file, or naming a deleted one
-            return real(d.path) in given or any(p in d.message for p in deleted)
-
         for i in shown:
             report = reports[i]
             inputs = triggers(targets[i], report, given)
+            # where the check asked for a given file that is not there (deleted): the include,
+            # load_yaml or mesh line that now fails (the reads graph, issue 28.7)
+            asked = {(real(path), line) for missing, where in report.missing.items()
+                     if missing in given for path, line in where}
             if not inputs:
-                if not ({resolved[i], *report.includes} & given) and not any(
-                        any(p in d.message for p in deleted) for d in report.diagnostics):
+                if not ({resolved[i], *report.includes} & given) and not asked:
                     continue
-                inside = [d for d in report.diagnostics if given_or_deleted(d)]
+                inside = [d for d in report.diagnostics
+                          if real(d.path) in given or (real(d.path), d.line) in asked]
                 elsewhere += len(report.diagnostics) - len(inside)
                 report.diagnostics = inside
             else:  # a YAML, a mesh, a launch file: its values show in the entry's findings
@@ -597,11 +596,16 @@ def seen_files(targets: list[Target], shown: list[FileReport], reports: list[Fil
     return seen - unsure
 
 
-def other_inputs(source, robot) -> set[str]:
-    """What a check read besides XML files (resolved): the YAML files its expansion loaded and
-    the mesh files its robot names (they exist). Changed-files mode re-checks an entry when one
-    of them changes (issue 23: every input of an entry is a trigger)."""
+def other_inputs(source, robot) -> tuple[set[str], dict[str, list[tuple[str, int | None]]]]:
+    """The reads graph of a check besides XML files: (what it read, resolved: the YAML files
+    its expansion loaded and the mesh files its robot names; what it asked for that is not
+    there: resolved path -> the (file, line) of each place that asked: includes, YAML files,
+    meshes). Changed-files mode re-checks an entry when one of them changes (issue 23: every
+    input of an entry is a trigger), and keeps the findings where a deleted one was asked for
+    (issue 28.7)."""
     found = set(getattr(source, "reads", ()))
+    missing = {path: [(loc.path, loc.line) for loc in where if loc is not None]
+               for path, where in getattr(source, "missing", {}).items()}
     if any(shape.geometry.filename for link in robot.links for shape in link.shapes):
         from urdftool.physics.meshes import resolve
 
@@ -614,7 +618,11 @@ def other_inputs(source, robot) -> set[str]:
                         path = None
                     if path is not None and is_file(path):
                         found.add(resolved(path))
-    return found
+                    elif path is not None and shape.geometry.loc is not None and \
+                            not os.path.lexists(path):
+                        missing.setdefault(resolved(path), []).append(
+                            (shape.geometry.loc.path, shape.geometry.loc.line))
+    return found, missing
 
 
 def triggers(target: Target, report: FileReport, given: set[str]) -> list[str]:
@@ -1148,6 +1156,18 @@ def unaffected(targets: list[Target], given: set[str] | None,
             reports[index] = FileReport(target.path, None)
             reports[index].includes, reports[index].role = reads
     return todo, reports, waiting
+
+
+def gone(targets: list[Target], load_options) -> set[str]:
+    """The files that the last checks of ``targets`` read (the reads cache) and that are no
+    longer there: deleted since. A commit that deletes an include does not name it (pre-commit
+    gives a hook no deleted file); the entries that read it find it in their reads graph."""
+    found: set[str] = set()
+    for target in targets:
+        before = cached_reads(target, load_options, stale=True)
+        if before is not None:
+            found.update(p for p in before[0] if not os.path.lexists(p))
+    return found
 
 
 def settle(targets: list[Target], reports: list, waiting: list[int], load_options) -> list[int]:

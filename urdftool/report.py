@@ -164,7 +164,7 @@ def merge_repeats(files: list["FileReport"]) -> list["FileReport"]:
 
 
 class FileReport:
-    __slots__ = ("args", "diagnostics", "includes", "path", "robot", "role", "texts")
+    __slots__ = ("args", "diagnostics", "includes", "missing", "path", "robot", "role", "texts")
 
     def __init__(self, path: str, robot: str | None, diagnostics: list[Diagnostic] | None = None,
                  texts: dict[str, str] | None = None):
@@ -174,6 +174,8 @@ class FileReport:
         self.texts = texts if texts is not None else {}  # for source excerpts
         self.args: dict[str, str] = {}  # the xacro arguments of this check (configured entries)
         self.includes: tuple[str, ...] = ()  # every other file the check read (resolved paths)
+        # files the check asked for that are not there: resolved -> [(file, line) that asked]
+        self.missing: dict[str, list[tuple[str, int | None]]] = {}
         self.role = "entry"  # or "fragment": holds only definitions (urdftool.package)
 
     def to_json(self, per_rule: int | None = None) -> dict:

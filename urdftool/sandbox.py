@@ -436,6 +436,8 @@ def source_to_json(source) -> dict:
     files.READ.clear()
     return {"kind": source.kind, "root": text, "locs": locs, "texts": source.texts,
             "unread": source.unread, "reads": sorted(source.reads),
+            "missing": {path: [_loc_json(loc) for loc in where]
+                        for path, where in source.missing.items()},
             "files_read": files_read, "lost": list(source.lost),
             "problems": [[rule, f.message, _loc_json(f.loc), f.hint, f.severity,
                           [list(e) for e in f.edits]] for rule, f in source.problems]}
@@ -483,6 +485,8 @@ def source_from_json(data, path: str):
                                                    for k, v in data["texts"].items()})
         source.unread = {text(k, False): text(v, False) for k, v in data["unread"].items()}
         source.reads = {text(p, False) for p in data.get("reads", ())}
+        source.missing = {text(p, False): [loc(where) for where in sites]
+                          for p, sites in data.get("missing", {}).items()}
         from urdftool import files
 
         for read in data.get("files_read", ()):

@@ -73,8 +73,8 @@ class LoadOptions:
 class Source:
     """One input file, read and (for xacro) expanded."""
 
-    __slots__ = ("_xpaths", "kind", "lines", "locs", "lost", "path", "problems", "reads",
-                 "resolver", "root", "texts", "unread")
+    __slots__ = ("_xpaths", "kind", "lines", "locs", "lost", "missing", "path", "problems",
+                 "reads", "resolver", "root", "texts", "unread")
 
     def __init__(self, path: str, kind: str, root: etree._Element | None = None,
                  problems: list[tuple[str, Finding]] | None = None,
@@ -86,6 +86,9 @@ class Source:
         self.problems = problems if problems is not None else []
         self.texts = texts if texts is not None else {}  # every file read -> its original text
         self.reads: set[str] = set()  # other files the reading read (YAML): resolved paths
+        # files the reading asked for that are not there (an include, a YAML file): resolved
+        # path -> the Locs that asked (a deleted file's includers: ``check --changed``)
+        self.missing: dict[str, list[Loc]] = {}
         # files an <include> names that were not read (unprefixed, hence never processed):
         # shown path -> text (``find_unread``)
         self.unread: dict[str, str] = {}

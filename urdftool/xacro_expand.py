@@ -154,6 +154,8 @@ class Expansion:
     problems: list = field(default_factory=list)  # (rule, Finding)
     texts: dict[str, str] = field(default_factory=dict)  # every file read -> its text
     reads: list[str] = field(default_factory=list)  # other files read (YAML), resolved
+    # files asked for that are not there (an include, a YAML file): resolved -> where asked
+    missing: dict = field(default_factory=dict)
 
 
 class OutsidePackage(Exception):
@@ -371,6 +373,8 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     def read_yaml(filename: str) -> str:
         """xacro.load_yaml's file: inside the package roots, a regular file, bounded."""
         policy.check_path(filename)
+        if not os.path.lexists(filename):  # asked for and absent: in the reads graph
+            source.missing.setdefault(os.path.realpath(filename), []).append(current_loc())
         if os.path.exists(filename) and not os.path.isfile(filename):
             raise OSError(f"{filename}: not a regular file (a device or a pipe)")
         if os.path.isfile(filename) and os.path.getsize(filename) > MAX_FILE_BYTES:
@@ -434,7 +438,10 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
                 raise xacro.XacroException(str(exc), exc=exc) from None
             except Exception as exc:  # noqa: BLE001 - reported as a xacro problem
                 xacro.filestack.pop()
-                raise xacro.XacroException("cannot include", exc=OSError(str(exc))) from None
+                failed = xacro.XacroException("cannot include", exc=OSError(str(exc)))
+                if not os.path.lexists(full):  # asked for and absent: in the reads graph
+                    failed.urdftool_missing = os.path.realpath(full)
+                raise failed from None
             shown = display_path(str(full))
         else:
             text = inp if isinstance(inp, str) else inp.read()
@@ -581,8 +588,11 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
                        "urdftool reads only inside it and the operator's directories (give the "
                        "package with -P NAME=DIR or ROS_PACKAGE_PATH)") if outside \
                 else str(exc).strip()
+            loc = _parse_loc(exc.urdftool_loc, files)
+            if hasattr(exc, "urdftool_missing"):  # the include of a file that is not there
+                source.missing.setdefault(exc.urdftool_missing, []).append(loc)
             source.add("xacro.error", Finding(f"xacro: {message}; skipped, the rest is "
-                                     "expanded without it", _parse_loc(exc.urdftool_loc, files)))
+                                     "expanded without it", loc))
             xacro.replace_node(elt, by=None)
 
     def find(package: str) -> str:
@@ -745,7 +755,7 @@ def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Polic
                 work.add("xacro.error", Finding(f"xacro: {type(exc).__name__}: {exc}", loc))
     _report_hidden(work, policy.hidden, getattr(options, "in_sandbox", False))
     return Expansion(expanded, list(files.paths), [_one_line(rule, f) for rule, f in work.problems],
-                     work.texts, sorted(work.reads))
+                     work.texts, sorted(work.reads), work.missing)
 
 
 def _report_hidden(work: Source, names: list[str], in_sandbox: bool = False) -> None:
@@ -804,6 +814,8 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
             f"xacro: {exc}; expansion stopped", Loc(source.path, None, None)))], {})
     source.problems.extend(result.problems)
     source.reads.update(result.reads)
+    for missing, where in result.missing.items():
+        source.missing.setdefault(missing, []).extend(where)
     for shown, text in result.texts.items():
         source.texts.setdefault(shown, text)
     if result.text is None:
