@@ -213,3 +213,40 @@ def test_a_missing_include_holds_back_what_it_may_define(tmp_path):
     report = check_file(path, CheckOptions())
     errors = [(d.rule, d.line) for d in report.diagnostics if d.severity == "error"]
     assert errors == [("transmission.unknown-joint", 6)], errors  # no joint 'tool_joint': k
+
+
+FINGERS = HEAD + """  <xacro:property name="color" value="red"/>
+  <xacro:macro name="finger" params="side parent:=base *origin">
+    <link name="${side}_finger"><visual><geometry><box size="1 1 1"/></geometry>
+      <material name="{color}"/></visual></link>
+    <joint name="${side}_joint" type="fixed"><parent link="${parent}"/><child link="{side}_finger"/>
+    </joint>
+    <!-- {side} in a comment is nothing --><gazebo><note>{side} {other} {{side}}</note></gazebo>
+  </xacro:macro>
+  <link name="base"/>
+  <xacro:finger side="left"><origin/></xacro:finger>
+  <xacro:finger side="right"><origin/></xacro:finger>
+</robot>
+"""
+
+
+def test_braces_without_dollar_are_one_finding_per_place_with_the_fix(write):
+    """Issue 29: `{side}` for `${side}` gave a did-you-mean for a joint name, two-parents and
+    orphan errors; it is one finding where it is written (a parameter of the macro, or a
+    property), and the safe fix makes the robot whole."""
+    path = write(FINGERS, "fingers.urdf.xacro")
+    report = check_file(path, CheckOptions())
+    assert not [d for d in report.diagnostics if d.rule.startswith("structure.")]
+    found = sorted((d.rule, d.severity, d.line, d.message.split(":")[0])
+                   for d in report.diagnostics if d.rule.startswith("xacro."))
+    assert found == [
+        ("xacro.missing-dollar", "error", 5, "'{color}' is written where '${color}' is meant"),
+        ("xacro.missing-dollar", "error", 6, "'{side}' is written where '${side}' is meant"),
+        ("xacro.missing-dollar", "warning", 8, "'{side}' is written where '${side}' is meant"),
+    ], found
+    from urdftool.edits import apply
+
+    text = Path(path).read_text()
+    fixed, _ = apply(text, [e for d in report.diagnostics if d.fix for e in d.fix.edits])
+    assert fixed.count("${side}_finger") == 2 and '"${color}"' in fixed
+    assert "{other}" in fixed and "{{side}}" in fixed and "<!-- {side}" in fixed

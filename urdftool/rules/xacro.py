@@ -390,6 +390,85 @@ def unexpanded_xacro(robot: Robot) -> set:
     return set(_unprefixed_tags(robot)) | {element for element, _ in _unprefixed_calls(robot)}
 
 
+# -- `{name}` written for `${name}` ------------------------------------------------------------
+
+_BRACED = re.compile(r"(?<![$\w{])\{([A-Za-z_]\w*)\}(?!\})")
+_MACRO_TAG = re.compile(r"<(/?)xacro:macro(?![\w:.-])([^<>]*)>")
+_PARAMS = re.compile(r"""\bparams\s*=\s*(?:"([^"]*)"|'([^']*)')""")
+
+
+@rule("xacro.missing-dollar", "error", "`{name}` written where `${name}` is meant",
+      doc="""Inside a macro, `{side}` is not a substitution: xacro copies the braces and the name
+      literally, so the link, joint or file name comes out as `{side}_finger` in every instance
+      (a joint then names a link that does not exist, two instances collide). It is reported
+      when the name in braces is a parameter of the macro it is written in, or a property of the
+      files read; the fix inserts the `$`. In an attribute (names, references, numbers) it is an
+      error, in element text a warning.""",
+      bad=_HEAD + '  <xacro:macro name="finger" params="side">\n'
+                  '    <link name="{side}_finger"/>\n  </xacro:macro>\n'
+                  '  <xacro:finger side="left"/>\n</robot>',
+      good=_HEAD + '  <xacro:macro name="finger" params="side">\n'
+                   '    <link name="${side}_finger"/>\n  </xacro:macro>\n'
+                   '  <xacro:finger side="left"/>\n</robot>',
+      fix="safe")
+def missing_dollar(robot: Robot):
+    from urdftool.edits import edit, line_starts
+    from urdftool.findings import Loc
+    from urdftool.textscan import markup_split
+
+    texts = robot.source.texts
+    if not any("{" in text for text in texts.values()):
+        return
+    properties = set(_defined_names(robot, "property"))
+    for path, written in texts.items():
+        if "{" not in written or "xacro" not in written:
+            continue
+        # comments and CDATA blanked (the same length: positions are the file's)
+        text = "".join(piece if index % 2 == 0 else re.sub(r"[^\n]", " ", piece)
+                       for index, piece in enumerate(markup_split(written)))
+        macros: list[tuple[int, set[str]]] = []  # open macros: (start, parameter names)
+        spans: list[tuple[int, int, set[str]]] = []
+        for tag in _MACRO_TAG.finditer(text):
+            if tag.group(1):
+                if macros:
+                    start, names = macros.pop()
+                    spans.append((start, tag.start(), names))
+            elif not tag.group(2).rstrip().endswith("/"):
+                found = _PARAMS.search(tag.group(2))
+                params = (found.group(1) or found.group(2) or "") if found else ""
+                names = {re.split(r"[:=]", word.lstrip("*^"))[0] for word in params.split()}
+                macros.append((tag.end(), names))
+        starts = None
+        for match in _BRACED.finditer(text):
+            name, at = match.group(1), match.start()
+            inside = any(start <= at < end and name in names for start, end, names in spans)
+            if not inside and name not in properties:
+                continue
+            if _in_expression(text, at):
+                continue
+            starts = starts or line_starts(written)
+            fix = edit(path, written, at, at, "$", starts)
+            in_attribute = _in_attribute(text, at)
+            yield Finding(
+                f"'{{{name}}}' is written where '${{{name}}}' is meant: xacro copies it as is "
+                f"(the {name} {'parameter' if inside else 'property'} is not substituted)",
+                Loc(path, fix.line, fix.column), hint=f"write ${{{name}}}", edits=(fix,),
+                severity="error" if in_attribute else "warning")
+
+
+def _in_attribute(text: str, at: int) -> bool:
+    """Whether ``at`` is inside a tag (an attribute value), not element text."""
+    return text.rfind("<", 0, at) > text.rfind(">", 0, at)
+
+
+def _in_expression(text: str, at: int) -> bool:
+    """Whether ``at`` is inside ``$(eval ...)`` or a ``${...}`` (a str.format template)."""
+    line_start = text.rfind("\n", 0, at) + 1
+    before = text[max(line_start, at - 2000):at]
+    opened = max(before.rfind("$("), before.rfind("${"))
+    return opened >= 0 and ")" not in before[opened:] and "}" not in before[opened:]
+
+
 # -- untrusted input (issue 8: urdftool.xacro_eval, urdftool.sandbox) ---------------------------
 
 source_rule(
@@ -401,11 +480,11 @@ source_rule(
     whoever expands it: on a CI runner, as the CI user.
 
     urdftool validates every expression before it is evaluated and allows literals, names,
-    operators, conditional expressions, subscripts, comprehensions, the functions xacro documents
-    (math, `python.*` but `type`/`vars`, `xacro.*`), the methods of strings, lists, dicts and
-    numbers, and attributes of namespaces and YAML data. Lambdas, `:=`, dunder names, frame /
-    code / generator attributes and anything else are refused; the file is not expanded past
-    that point. Real robot descriptions never need any of it: rewrite the expression with
+    operators, conditional expressions, subscripts, slices, comprehensions, lambdas, the
+    functions xacro documents (math, `python.*` but `vars` and three-argument `type`,
+    `xacro.*`), the methods of strings, lists, dicts, sets and numbers, and attributes of
+    namespaces and YAML data. `:=`, dunder names, frame / code / generator attributes and
+    anything else are refused; the expression's value is not used. Real robot descriptions never need any of it: rewrite the expression with
     properties and arithmetic.""",
     bad='<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r">\n'
         '  <link name="${[*(g:=(g.gi_frame.f_back.f_back.f_globals for _ in [1]))]}"/>\n'
