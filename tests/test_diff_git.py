@@ -221,3 +221,60 @@ def test_a_robot_that_no_longer_expands_is_an_error_with_its_reason(repo):
     assert robot["status"] == "error"
     assert "HEAD does not expand" in robot["reason"] and "upper_length" in robot["reason"]
     assert robot["findings"]["introduced"]
+
+
+def test_a_file_argument_names_each_sides_own_file_and_both_sides_run_untrusted(repo):
+    """``limits:=config/limits.yaml`` (a path of the repository) reads BASE's YAML at BASE and
+    HEAD's at HEAD; under --untrusted both sides are read by the sandboxed reader with the
+    same result."""
+    entry = ENTRY.replace('<xacro:arm prefix=""/>',
+                          '<xacro:arg name="limits" default="$(find arm_description)/config/limits.yaml"/>\n'
+                          '  <xacro:arm prefix=""/>')
+    macro = MACRO.replace("$(find arm_description)/config/limits.yaml", "$(arg limits)")
+    commit(repo, {"urdf/arm.urdf.xacro": entry, "urdf/arm_macro.xacro": macro,
+                  "config/other.yaml": LIMITS.replace("lower: -1.5", "lower: -1.0")}, "arg")
+    commit(repo, {"config/other.yaml": LIMITS.replace("lower: -1.5", "lower: -0.5")}, "limits")
+    for mode in ("--trusted", "--untrusted"):
+        result = run_urdftool("diff", "--format", "json", mode, "HEAD~1..HEAD",
+                              "limits:=config/other.yaml")
+        assert result.code == 0, result.err
+        [robot] = json.loads(result.out)["robots"]
+        [change] = robot["changes"]
+        assert (change["aspect"], change["before"], change["after"]) == ("limit.lower", -1.0, -0.5)
+
+
+def test_render_writes_before_and_after_with_the_changed_links_highlighted(repo, tmp_path):
+    pytest.importorskip("pybullet")
+    import struct
+    import zlib
+
+    moved = MACRO.replace('<origin xyz="0 0 0.05" rpy="0 0 0"/>', '<origin xyz="0.15 0 0.05" rpy="0 0 0"/>')
+    commit(repo, {"urdf/arm_macro.xacro": moved}, "moved")
+    out = tmp_path / "pictures"
+    result = run_urdftool("diff", "--format", "markdown", "--trusted", "--render", out,
+                          "HEAD~1..HEAD")
+    assert result.code == 0, result.err
+    before, after = sorted(out.glob("*-before.png")), sorted(out.glob("*-after.png"))
+    assert len(before) == len(after) == 1
+    assert f"![before]({before[0]})" in result.out and f"![after]({after[0]})" in result.out
+
+    def red_centre(path):  # the test's own PNG reading: the highlighted pixels' mean column
+        data = path.read_bytes()
+        width, height = struct.unpack(">II", data[16:24])
+        chunks, offset = b"", 8
+        while offset < len(data):
+            length = struct.unpack(">I", data[offset:offset + 4])[0]
+            if data[offset + 4:offset + 8] == b"IDAT":
+                chunks += data[offset + 8:offset + 8 + length]
+            offset += length + 12
+        raw = zlib.decompress(chunks)
+        columns = []
+        for row in range(height):
+            line = raw[row * (width * 3 + 1) + 1:(row + 1) * (width * 3 + 1)]
+            columns += [x for x in range(width) if line[3 * x] > 150 and line[3 * x + 1] < 90
+                        and line[3 * x + 2] < 90]
+        assert columns, f"no highlighted link in {path}"
+        return sum(columns) / len(columns)
+
+    # the upper arm and the tool (below the moved origin) are red, and they moved sideways
+    assert abs(red_centre(after[0]) - red_centre(before[0])) > 10

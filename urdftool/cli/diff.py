@@ -52,7 +52,7 @@ def command(ctx, inputs, fmt, packages, render_dir, exit_code):
     from urdftool.check import CheckOptions
     from urdftool.diff import formats
     from urdftool.diff import revisions as git
-    from urdftool.diff.run import Side, diff_files, diff_sides, share_meshes
+    from urdftool.diff.run import Side, diff_files, diff_sides, share_meshes, side_args
 
     literal = ctx.meta.get(_LITERAL_KEY, 0)
     values = list(inputs)
@@ -100,6 +100,8 @@ def command(ctx, inputs, fmt, packages, render_dir, exit_code):
                 head = Side(head_rev, Path(head_dir.name), blobs=head_blobs)
                 share_meshes(head.tree, head_blobs, repo, worktree)  # (CI: HEAD is checked
                 share_meshes(base.tree, base_blobs, head.tree, head_blobs)  # out: its cache)
+            base = base._replace(args=side_args(xacro_args, repo, base.tree))
+            head = head._replace(args=side_args(xacro_args, repo, head.tree))
             robots = diff_sides(base, head, options, changed,
                                 [_in_repository(limit, repo) for limit in limits])
         else:

@@ -65,6 +65,24 @@ class Side(NamedTuple):
     tree: Path
     entry_file: str | None = None  # a snapshot file: its findings are named as the other's
     blobs: dict = {}  # noqa: RUF012 - path in the tree -> git blob id, where known (never mutated)
+    args: dict = {}  # noqa: RUF012 - operator arguments as this side reads them (``side_args``)
+
+
+def side_args(args: dict[str, str], repo: Path, tree: Path) -> dict[str, str]:
+    """The operator's ``NAME:=VALUE`` for one side: a value naming a file of the repository
+    (relative to the working directory or absolute) names that file in the side's tree, so
+    that BASE reads BASE's parameter file (``visual_params:=config/ur5e/visual.yaml``)."""
+    mapped = {}
+    root = os.path.realpath(repo)
+    for name, value in args.items():
+        full = os.path.realpath(os.path.abspath(value)) if value else ""
+        if full.startswith(root + os.sep):
+            rel = os.path.relpath(full, root)
+            if os.path.lexists(tree / rel):
+                mapped[name] = str(tree / rel)
+                continue
+        mapped[name] = value
+    return mapped
 
 
 def relative(path: str | None, tree: Path) -> str | None:
@@ -103,6 +121,8 @@ def side_entries(side: Side, options: CheckOptions, changed: list[str] | None,
     options = copy.copy(options)
     options.load = copy.copy(options.load)
     tree = side.tree
+    if side.args:
+        options.load.xacro_args = dict(side.args)
     options.load.roots = run_roots([str(tree)], options.load)
     options.config = load_config(tree)
     selection = Selection()
@@ -146,8 +166,11 @@ def side_entries(side: Side, options: CheckOptions, changed: list[str] | None,
                 for limit in limits):
             continue
         key = (path, tuple(sorted(report.args.items())))
-        entries.setdefault(key, Entry(path, dict(report.args), report, robot, diagnostics))
-        if id(report) in shown_ids or changed is None:
+        entry = entries.setdefault(key, Entry(path, dict(report.args), report, robot,
+                                              diagnostics))
+        # an entry of a touched package that does not expand may never reach the changed
+        # files: compared all the same (status error, with the reason), never left out
+        if id(report) in shown_ids or changed is None or _failure(entry) is not None:
             touched.add(key)
     return entries, touched
 
