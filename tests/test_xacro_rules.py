@@ -250,3 +250,26 @@ def test_braces_without_dollar_are_one_finding_per_place_with_the_fix(write):
     fixed, _ = apply(text, [e for d in report.diagnostics if d.fix for e in d.fix.edits])
     assert fixed.count("${side}_finger") == 2 and '"${color}"' in fixed
     assert "{other}" in fixed and "{{side}}" in fixed and "<!-- {side}" in fixed
+
+
+@pytest.mark.parametrize("template", ["arm.urdf.xacro.in", "arm.urdf.xacro.em", None])
+def test_an_include_generated_at_build_time_is_a_warning_naming_its_template(tmp_path,
+                                                                            template):
+    """Issue 29: an include the build generates (from a .in/.em template beside it) failed
+    as 'No such file' errors; without a template it stays the error it is."""
+    (tmp_path / "robot.urdf.xacro").write_text(
+        HEAD + '  <xacro:include filename="arm.urdf.xacro"/>\n  <link name="base"/>\n'
+               '  <xacro:arm parent="base"/>\n</robot>\n')
+    if template:
+        (tmp_path / template).write_text(HEAD + '  <link name="@ARM@"/>\n</robot>\n')
+    found = [(d.rule, d.severity, d.message, d.hint)
+             for d in check_file(tmp_path / "robot.urdf.xacro", CheckOptions()).diagnostics
+             if d.severity in ("error", "warning")]
+    ((rule, severity, message, hint),) = found  # the undefined macro is held back
+    assert rule == "xacro.error"
+    if template:
+        assert severity == "warning"
+        assert f"generated at build time from {template}" in message
+        assert "built package" in hint
+    else:
+        assert severity == "error" and "generated at build time" not in message

@@ -589,10 +589,18 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
                        "package with -P NAME=DIR or ROS_PACKAGE_PATH)") if outside \
                 else str(exc).strip()
             loc = _parse_loc(exc.urdftool_loc, files)
+            template = None
             if hasattr(exc, "urdftool_missing"):  # the include of a file that is not there
                 source.missing.setdefault(exc.urdftool_missing, []).append(loc)
-            source.add("xacro.error", Finding(f"xacro: {message}; skipped, the rest is "
-                                     "expanded without it", loc))
+                template = _template_of(exc.urdftool_missing, policy)
+            if template is not None:  # made by the build: not a defect of the sources
+                message = (f"cannot include '{elt.getAttribute('filename')}': it is generated "
+                           f"at build time from {Path(template).name} (not in the source tree)")
+            source.add("xacro.error", Finding(
+                f"xacro: {message}; skipped, the rest is expanded without it", loc,
+                hint=None if template is None else
+                "check the built package (its share directory), or give the directory of the "
+                "generated file with -P NAME=DIR", severity=None if template is None else "warning"))
             xacro.replace_node(elt, by=None)
 
     def find(package: str) -> str:
@@ -704,6 +712,24 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
          xacro.process_include, xacro.safe_eval, substitution_args._eval,
          substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text,
          xacro.get_boolean_value, xacro.get_include_files) = saved
+
+
+# what a build makes a file from: ``robot.urdf.xacro`` from ``robot.urdf.xacro.in`` (CMake's
+# configure_file), ``.em`` (empy), Jinja and other templates; ``robot.urdf`` from its xacro
+TEMPLATE_SUFFIXES = (".in", ".em", ".j2", ".jinja", ".jinja2", ".template", ".tmpl", ".tpl")
+
+
+def _template_of(missing: str, policy: _Policy) -> str | None:
+    """The template a missing include is generated from at build time (a sibling named as
+    the file plus a template suffix, or a ``.urdf``'s ``.urdf.xacro``) that may be read, or
+    None."""
+    names = [missing + suffix for suffix in TEMPLATE_SUFFIXES]
+    if missing.endswith(".urdf"):
+        names.append(missing + ".xacro")
+    for name in names:
+        if (policy.roots is None or policy.roots.readable(name)) and os.path.isfile(name):
+            return name
+    return None
 
 
 def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Policy) -> Expansion:

@@ -150,7 +150,8 @@ def xacro_error(robot: Robot):
             tags = ", ".join(f"<{tag}>" for tag in old_style)
             hint = (f"{hint}; note: this file uses {tags} without the xacro: prefix, which "
                     "xacro 2 ignores (write <xacro:...>)")
-        yield Finding(message, finding.loc, hint=hint or finding.hint, severity=finding.severity)
+        # the reader's own hint knows more than the message's class (a generated include)
+        yield Finding(message, finding.loc, hint=finding.hint or hint, severity=finding.severity)
 
 
 _OLD_TAG_RE = re.compile(r"<(property|macro|include|arg)\s[^<>]*?\b(?:name|filename)\s*=")
