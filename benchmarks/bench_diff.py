@@ -154,7 +154,20 @@ def _aspect(path: str) -> str:
 
 
 def robot_diff(old: Path, new: Path, source: Path) -> set:
-    """robot-diff's changes as (element, name, aspect), run from its snapshot ``source``."""
+    """robot-diff's changes as (element, name, aspect), run from its snapshot ``source``. Its
+    schema refuses ``<ros2_control>`` (every UR description has one): the blocks are taken out
+    of copies of both files first."""
+    from lxml import etree
+
+    copies = []
+    for path in (old, new):
+        root = etree.parse(str(path)).getroot()
+        for element in root.findall("ros2_control"):
+            root.remove(element)
+        copy = path.with_name(path.stem + "-for-robot-diff.urdf")
+        copy.write_bytes(etree.tostring(root))
+        copies.append(copy)
+    old, new = copies
     code = ("import json, sys\nfrom pathlib import Path\n"
             "from robot_diff.diff import compare_robots\nfrom robot_diff.parsers import URDFParser\n"
             "d = compare_robots(URDFParser(Path(sys.argv[1])).parse(), URDFParser(Path(sys.argv[2])).parse())\n"

@@ -311,3 +311,27 @@ def test_a_renamed_chain_is_renamed_not_removed_and_added(write):
     assert found == {("link", "link3", "renamed_link3"), ("link", "link4", "renamed_link4"),
                      ("joint", "joint3", "renamed_joint3")}
     assert {c["aspect"] for c in changes} == {"renamed"}
+
+
+SHIFT = """<robot name="r">
+  <link name="{root}"/>
+  <link name="{body}"><inertial><mass value="4"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.02"/></inertial>
+    <visual><geometry><box size="0.2 0.2 0.1"/></geometry></visual></link>
+  <link name="arm"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.001"/></inertial></link>
+  <joint name="{root}-{body}" type="fixed"><parent link="{root}"/><child link="{body}"/><origin rpy="0 0 3.141592653589793"/></joint>
+  <joint name="pan" type="revolute"><parent link="{body}"/><child link="arm"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+</robot>
+"""
+
+
+def test_a_name_moved_to_another_link_is_two_renames(write):
+    """UR's 6f4ae5d: base_link_fixed -> base_link and base_link -> base_link_inertia. Matched
+    by name, 'base_link' would be a link that lost its geometry and inertia, with one link
+    removed and one added; by place, geometry and inertia it is two renames and a joint's."""
+    changes = diff_json(write, SHIFT.format(root="base_link_fixed", body="base_link"),
+                        SHIFT.format(root="base_link", body="base_link_inertia"))
+    assert {(c["element"], c["aspect"], c["before"], c["after"]) for c in changes} == {
+        ("link", "renamed", "base_link_fixed", "base_link"),
+        ("link", "renamed", "base_link", "base_link_inertia"),
+        ("joint", "renamed", "base_link_fixed-base_link", "base_link-base_link_inertia")}

@@ -139,6 +139,20 @@ def match_links(a: Robot, b: Robot) -> dict[str, str]:
     docstring). Links met in B's tree order, so a renamed chain is matched from its top."""
     a_links, b_links = _first_by_name(a.links), _first_by_name(b.links)
     mapping = {name: name for name in a_links if name in b_links}
+    # a name that moved to another link (base_link -> base_link_inertia, base_link_fixed ->
+    # base_link): a new name at the other side is that link (four or five of joint type,
+    # origin, axis, inertia, geometry agree), the link keeping the name is far less like it
+    new_names = [n for n in b_links if n not in a_links]
+    for name in list(mapping):
+        if not new_names:
+            break
+        kept = _similarity(a, name, b, name)
+        if kept >= 3:
+            continue
+        scored = sorted(((_similarity(a, name, b, n), n) for n in new_names), reverse=True)
+        if scored[0][0] >= max(4, kept + 2) and (len(scored) == 1 or scored[1][0] < scored[0][0]):
+            mapping[name] = scored[0][1]
+            new_names.remove(scored[0][1])
     taken = set(mapping.values())
     order = _tree_order(b)
     changed = True
@@ -168,7 +182,7 @@ def match_links(a: Robot, b: Robot) -> dict[str, str]:
             best, _, chosen = scored[0]
             siblings = [n for n in order if n not in taken and _same_parent(b, n, name)]
             alone = len(candidates) == 1 and len(siblings) == 1
-            if best >= 3 or (alone and best >= 1):
+            if best >= 3 or (alone and (best >= 1 or joint is None)):  # (the one root left)
                 mapping[chosen] = name
                 taken.add(name)
                 inverse[name] = chosen
