@@ -143,3 +143,63 @@ def test_hook_a_deleted_relative_include_blocks_the_commit(shipped, tmp_path):  
     assert blocked.returncode != 0, blocked.stdout
     assert re.search(rf"demo_description/urdf/robot\.urdf\.xacro:{_include_line(entry)}:\d+: "
                      r"error xacro\.error", blocked.stdout), blocked.stdout
+
+
+WHEELS = ('<?xml version="1.0"?>\n<robot name="r">\n  <link name="base"/>\n'
+          '  <joint name="wheel_1_joint" type="continuous"><parent link="base"/>'
+          '<child link="wheel_1"/><axis xyz="{a1}"/></joint>\n  <link name="wheel_1"/>\n'
+          '  <joint name="wheel_2_joint" type="continuous"><parent link="base"/>'
+          '<child link="wheel_2"/><axis xyz="{a2}"/></joint>\n  <link name="wheel_2"/>\n'
+          '</robot>\n')
+
+
+def test_action_a_baseline_finding_hides_no_defect_on_another_link(tmp_path):
+    """Issue 28.8: the baseline's matching removed every digit (``wheel_1`` was ``wheel_2``):
+    a pull request that fixes the recorded zero axis of wheel_1 and breaks wheel_2 passed the
+    Action's ``--baseline``."""
+    repo = tmp_path / "team"
+    repo.mkdir()
+    robot = repo / "r.urdf"
+    robot.write_text(WHEELS.format(a1="0 0 0", a2="0 1 0"))
+    _git(tmp_path, "init", "-q", str(repo))
+    from tests.conftest import run_urdftool
+
+    written = run_urdftool("check", "--write-baseline", str(repo / "base.json"), str(robot))
+    assert written.code == 0 and "finding(s) recorded" in written.err, written
+    _git(repo, "add", "-A")
+    _git(repo, "commit", "-qm", "base, with its baseline")
+    args = {"paths": "r.urdf", "args": "--baseline base.json"}
+    assert run_action(repo, args, {}).code == 0  # the recorded finding is hidden
+    robot.write_text(WHEELS.format(a1="0 1 0", a2="0 0 0"))
+    _git(repo, "commit", "-qam", "the pull request")
+    run = run_action(repo, args, {})
+    assert run.code == 1, run.output
+    [annotation] = run.annotations()
+    assert "wheel_2_joint" in annotation and "joint.zero-axis" in annotation, run.output
+
+
+def test_action_an_unknown_package_is_not_looked_for_outside_the_repository(tmp_path):
+    """Issue 28.8: ``package://NAME/...`` with an unknown NAME looked for a directory NAME
+    beside every ancestor of the file, outside the repository too: the annotation told
+    whether the runner has that directory (and named its absolute path)."""
+    repo = tmp_path / "team"
+    repo.mkdir()
+    (repo / "r.urdf").write_text(
+        '<?xml version="1.0"?>\n<robot name="r"><link name="base"><visual><geometry>'
+        '<mesh filename="package://runner_secrets/key.stl"/></geometry></visual></link>'
+        '</robot>\n')
+    _git(tmp_path, "init", "-q", str(repo))
+    _git(repo, "add", "-A")
+    _git(repo, "commit", "-qm", "the pull request")
+    answers = []
+    for exists in (True, False):
+        secrets = tmp_path / "runner_secrets"
+        if exists:
+            secrets.mkdir()
+            (secrets / "key.stl").write_text("solid s\nendsolid s\n")
+        else:
+            shutil.rmtree(secrets)
+        run = run_action(repo, {"paths": "r.urdf"}, {})
+        assert str(tmp_path) not in run.output, run.output
+        answers.append([line for line in run.output.splitlines() if line.startswith("::")])
+    assert answers[0] == answers[1] and answers[0], answers

@@ -1,7 +1,8 @@
 """Baselines (issues 13, 23): record today's findings, then fail only on new ones.
 
 A finding is matched by its rule, its file, its element (the XPath without positions:
-``/robot/link/inertial``) and its message with the numbers taken out (link and joint names stay),
+``/robot/link/inertial``) and its message with the numbers that are values taken out (digits in
+a name stay: ``wheel_1`` is not ``wheel_2``),
 so it survives lines moving and values being retouched.
 
 Portable (issue 23): files and every path a message names are written relative to the
@@ -30,7 +31,9 @@ from urdftool.report import Diagnostic, Report, sites_text
 
 FORMAT = 1
 
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+# a number that is a value: not inside a name (``wheel_1``, ``link2``, ``arm-3``, ``j1.5``: the
+# digits of a name tell one link from another, issue 28.8)
+_NUMBER = r"(?<![\w.-])[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?(?!\w|\.\d)"
 # a path in a message: absolute (with or without file://), or relative with a directory in it
 # an absolute path: after file://, or not inside a word, a URI (package://) or another path
 _ABSOLUTE = re.compile(r"(?:file://|(?<![\w:/.~-]))(/[^\s'\"(),:;]+)")

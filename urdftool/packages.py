@@ -279,19 +279,24 @@ class PackageResolver:
     def by_directory(self, name: str, start: Path) -> Path | None:
         """Package ``name`` as a directory NAME above ``start`` or beside one of its ancestors
         (how pinocchio's package_dirs and ROS_PACKAGE_PATH trees are laid out, e.g.
-        example-robot-data, whose package.xml names it differently); ``urdftool`` is
-        urdftool's own example meshes (used in the rule docs)."""
-        if not name:
+        example-robot-data, whose package.xml names it differently), looked for inside the
+        run's roots only; ``urdftool`` is urdftool's own example meshes (used in the rule
+        docs)."""
+        if not name or name in (".", ".."):
             return None
         if name == "urdftool":
             return Path(__file__).resolve().parent
-        key = (name, os.fspath(start))
+        key = (name, os.fspath(start), self.roots)
         if key not in _DIRECTORIES:  # memoised per process, like _discover
-            directory = start.resolve()
-            _DIRECTORIES[key] = next(
-                (ancestor if ancestor.name == name else ancestor / name
-                 for ancestor in (directory, *directory.parents)
-                 if ancestor.name == name or (ancestor / name).is_dir()), None)
+            directory, found = start.resolve(), None
+            for ancestor in (directory, *directory.parents):
+                if not self.allows(ancestor):  # only inside the roots: what is beside a
+                    break  # directory of the machine is never asked (an existence oracle)
+                candidate = ancestor if ancestor.name == name else ancestor / name
+                if candidate == ancestor or (self.allows(candidate) and candidate.is_dir()):
+                    found = candidate
+                    break
+            _DIRECTORIES[key] = found
         return _DIRECTORIES[key]
 
     def roots_known(self) -> list[Path]:
