@@ -115,7 +115,10 @@ def test_sarif_is_valid_against_the_sarif_schema(write):
 def test_github_annotations(write):
     result = run_urdftool("check", "--format", "github", write(BROKEN))
     lines = result.out.strip().splitlines()
-    assert lines and all(line.startswith(("::error ", "::warning ", "::notice ")) for line in lines)
+    # annotations, then the summary line (a plain log line, as the text format ends)
+    assert lines[-1] == "urdftool: 1 file(s): 2 error(s), 0 warning(s), 0 info", lines
+    assert lines[:-1] and all(line.startswith(("::error ", "::warning ", "::notice "))
+                              for line in lines[:-1])
     assert "line=" in lines[0] and "file=" in lines[0]
 
 

@@ -248,13 +248,14 @@ def test_one_location_format(tmp_path):
     assert tree.code == 2 and tree.err.startswith(f"urdftool: {unreadable}:3:3: error xacro.error")
     assert any(line.startswith(f"{unreadable}:3:3: error xacro.error: ")
                for line in check(unreadable).out.splitlines())
-    limits = run_urdftool("limits", WITH_INFOS)
+    limits = run_urdftool("limits", "--show-info", WITH_INFOS)  # infos listed as check's are
     assert f"{WITH_INFOS}:451:5: info mimic.mixed-kinds: joint 'joint8'" in limits.out
     chip = ROBOTS / "chip_v2" / "published" / "chip_v2.urdf"
     inertia = json.loads(run_urdftool("inertia", "--format", "json", chip).out)
     finding = next(f for row in inertia["links"] for f in row["findings"])
     assert (f"{finding['path']}:{finding['line']}:{finding['column']}: {finding['severity']} "
-            f"{finding['rule']}: {finding['message']}") in run_urdftool("inertia", chip).out
+            f"{finding['rule']}: {finding['message']}") in \
+        run_urdftool("inertia", "--show-info", chip).out
 
 
 # -- nothing cut or wrapped when piped --------------------------------------------------------
@@ -382,7 +383,9 @@ def test_hostile_names_through_every_command(tmp_path):
     github = check("--format", "github", robot, raw)
     assert github.code == 1
     _assert_cannot_hijack(github.out, own_annotations=True)
-    assert all(line.startswith("::") for line in github.out.splitlines())
+    *annotations, summary = github.out.splitlines()  # the last: the summary line
+    assert summary.startswith("urdftool: ") and " error(s), " in summary and annotations
+    assert all(line.startswith("::") for line in annotations)
 
 
 def test_machine_formats_stay_exact(tmp_path):
