@@ -176,6 +176,13 @@ def test_readme_workflow_annotates_and_writes_sarif_in_one_pass(repo):
     assert call[call.index("--format") + 1] == "github"
     assert call[call.index("--extra-output") + 1] == "sarif:" + step["with"]["sarif"]
     assert call[call.index("--") + 1:] == ["src"]
+    # the job summary, from the same run: the verdict, the rule, the finding's location
+    assert run.summary.startswith("### urdftool check failed: 1 error(s)"), run.summary
+    assert "| error | `joint.zero-axis` | 1 |" in run.summary
+    assert f"src/demo\\_description/urdf/wheel.xacro\\:{line}\\:" in run.summary
+    # --format github ends with the summary line, a plain log line
+    assert any(re.fullmatch(r"urdftool: \d+ file\(s\): 1 error\(s\), \d+ warning\(s\), \d+ info", x)
+               for x in run.output.splitlines()), run.output
 
 
 def test_the_mesh_cache_is_the_one_actions_cache_keeps(repo):

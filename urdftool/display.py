@@ -167,6 +167,20 @@ def excerpt(text: str, start: int, end: int, column: int | None,
     return shown, caret
 
 
+# characters GitHub-flavoured markdown gives a meaning inside a line (emphasis, code, links,
+# images, table cells, HTML, entities, strikethrough, autolinks `http:`, mentions): escaped so
+# that text from a file is shown as written (the text never starts a line: no heading or list)
+_MARKDOWN = {c: "\\" + c for c in "\\`*_[]<>|!&~:@"}
+_MARKDOWN_TABLE = str.maketrans(_MARKDOWN)
+
+
+def markdown_text(value) -> str:
+    """``value`` (text from a file: a name, a message) as inert markdown: every character
+    markdown or HTML could read escaped with a backslash (no tag, link, image, table cell or
+    mention can come of it), control characters escaped (``clean``), one line."""
+    return clean(value).translate(_MARKDOWN_TABLE).replace("\n", " ").replace("\r", " ")
+
+
 def location(path, line: int | None = None, column: int | None = None) -> str:
     """``path:line:col``, ``path:line`` or ``path``: the same in every command."""
     where = clean(path)

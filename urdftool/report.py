@@ -313,13 +313,14 @@ def format_json(report: Report, per_rule: int | None = MACHINE_PER_RULE) -> str:
 
 
 def format_github(report: Report, annotate: set[str] | None = None,
-                  per_rule: int = 20) -> str:
+                  per_rule: int = 20, summary: bool = False) -> str:
     """GitHub Actions workflow commands (``::error file=...,line=...::message``), escaped as
     GitHub documents: ``%``, CR and LF in the message; also ``:`` and ``,`` in properties.
     Other control characters are shown as ``\\x1b``... (``display.clean``). ``annotate``: the
     files (resolved paths) to annotate (a pull request's); a finding elsewhere is a plain log
     line, and one notice counts them. At most ``per_rule`` findings of one rule in one file
-    (GitHub shows a few annotations per step): the rest are counted in one notice."""
+    (GitHub shows a few annotations per step): the rest are counted in one notice. With
+    ``summary``, the last line is the summary line (a plain log line)."""
     import os
 
     from urdftool.display import clean, clip, diagnostic_line, guard
@@ -355,6 +356,8 @@ def format_github(report: Report, annotate: set[str] | None = None,
     if omitted:
         lines.append(f"::notice title=urdftool::{omitted} more finding(s) not annotated (at "
                      f"most {per_rule} per rule and file; --format json lists them)")
+    if summary:  # a plain log line, as the text format ends: what the run found in all
+        lines.append("urdftool: " + summary_line(report))
     return "\n".join(lines)
 
 
@@ -549,6 +552,42 @@ def render_text(report: Report, show_info: bool = False, colour: bool = False,
 
         text = guard(text)
     return text
+
+
+MARKDOWN_LISTED = 50  # markdown: findings listed (the summary table counts them all)
+
+
+def format_markdown(report: Report, show_info: bool = False,
+                    listed: int = MARKDOWN_LISTED) -> str:
+    """A pull request's job summary (``$GITHUB_STEP_SUMMARY``): the counts, a table of the
+    rules found (errors first), then the first ``listed`` errors and warnings (infos with
+    ``show_info``) as ``path:line:col``, severity, rule and message. Text from files is inert
+    markdown (``display.markdown_text``)."""
+    from collections import Counter
+
+    from urdftool.display import clip, location, markdown_text
+
+    s = report.summary()
+    order = {"error": 0, "warning": 1, "info": 2}
+    verdict = "failed" if s["errors"] else "passed"
+    lines = [f"### urdftool check {verdict}: {s['errors']} error(s), {s['warnings']} "
+             f"warning(s), {s['infos']} info in {s['files']} file(s)", ""]
+    counts = Counter((d.severity, d.rule) for d in report.diagnostics())
+    if counts:
+        lines += ["| severity | rule | findings |", "| --- | --- | ---: |"]
+        for (severity, rule), count in sorted(counts.items(),
+                                              key=lambda i: (order[i[0][0]], -i[1], i[0][1])):
+            lines.append(f"| {severity} | `{rule}` | {count} |")  # ids: [a-z0-9.-]
+        lines.append("")
+    shown = sorted((d for d in report.diagnostics() if show_info or d.severity != "info"),
+                   key=lambda d: order[d.severity])
+    for d in shown[:listed]:
+        where = markdown_text(location(d.path, d.line, d.column))
+        lines.append(f"- **{d.severity}** {where} `{d.rule}`: "
+                     f"{markdown_text(clip(d.message))}")
+    if len(shown) > listed:
+        lines.append(f"- ... and {len(shown) - listed} more (the job's log lists them)")
+    return "\n".join(lines).rstrip() + "\n"
 
 
 def format_junit(report: Report, testname: str = "urdftool", strict: bool = False,

@@ -56,8 +56,14 @@ def _sarif(report, how: _How) -> str:
 def _github(report, how: _How) -> str:
     from urdftool.report import format_github
 
-    text = format_github(report, how.annotate)
+    text = format_github(report, how.annotate, summary=not how.quiet)
     return text + ("\n" if text else "")
+
+
+def _markdown(report, how: _How) -> str:
+    from urdftool.report import format_markdown
+
+    return format_markdown(report, show_info=how.show_info)
 
 
 def _junit(report, how: _How) -> str:
@@ -68,7 +74,7 @@ def _junit(report, how: _How) -> str:
 
 FORMATS: dict[str, tuple[Callable[[object, _How], str], bool]] = {
     "text": (_text, False), "json": (_json, True), "sarif": (_sarif, True),
-    "github": (_github, False), "junit": (_junit, False)}
+    "github": (_github, False), "junit": (_junit, False), "markdown": (_markdown, False)}
 
 
 @click.command("check", cls=PathsCommand)
