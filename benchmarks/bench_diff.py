@@ -1,10 +1,10 @@
 """`urdftool diff` on real upstream commits (issue 30), side by side with robot-diff and a plain
 name-based XML diff, and the time of the UR description's nine-variant diff.
 
-Pairs: commits of UniversalRobots/Universal_Robots_ROS2_Description (the public history, as
-`fetch` mirrors it under /work/.mirror), each with one robot variant and the changes a robot
-engineer names, written down by hand from reading the commit (`git show`), never from a tool's
-output; plus a regenerated URDF (the UR5e expanded at HEAD, every number written again with
+Pairs: commits of UniversalRobots/Universal_Robots_ROS2_Description and
+frankaemika/franka_description (the public histories, as `fetch` mirrors them under
+/work/.mirror), each with one robot variant and the changes a robot engineer names, written
+down by hand from reading the commit (`git show`); plus a regenerated URDF (the UR5e expanded at HEAD, every number written again with
 17 digits and its attributes reordered, with two real changes among them).
 
 Each pair is compared three ways:
@@ -23,7 +23,7 @@ expected), renames found as renames, origin changes given with their effect, and
 changes located in a file of the repository at a line. Time: `urdftool diff` of a commit that
 changes all nine UR variants (CPU time of the child, warm mesh cache; and cold, without it).
 
-Usage: python benchmarks/bench_diff.py [--robot-diff DIR] [--mirror DIR] [--only COMMIT]
+Usage: python benchmarks/bench_diff.py [--robot-diff DIR] [--mirrors DIR] [--only COMMIT]
 """
 
 from __future__ import annotations
@@ -41,7 +41,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 URDFTOOL = [sys.executable, "-m", "urdftool"]
-MIRROR = Path("/work/.mirror/UniversalRobots+Universal_Robots_ROS2_Description/repo")
+MIRRORS = Path("/work/.mirror")
 ROBOT_DIFF = Path("/work/.mirror/henrynoyes+robot-diff/repo")
 
 # the arguments of a UR variant (ur.urdf.xacro of the time, as its launch file passes them;
@@ -57,29 +57,54 @@ JOINTS6 = ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_
 LINKS6 = ("shoulder_link", "upper_arm_link", "forearm_link", "wrist_1_link", "wrist_2_link",
           "wrist_3_link")
 
-# (commit, variant, arguments, kind, expected {(element, name, aspect)}), read from git show
+UR, FRANKA = "UniversalRobots+Universal_Robots_ROS2_Description", "frankaemika+franka_description"
+ENTRY, MOCKED = "urdf/ur.urdf.xacro", "urdf/ur_mocked.urdf.xacro"
+FR3 = "robots/fr3/fr3.urdf.xacro"
+
+
+def ur(variant: str, args: list[str] = NEW_ARGS) -> list[str]:
+    return [a.format(v=variant) for a in args] + [f"ur_type:={variant}"]
+
+
+# (repository, commit, entry, arguments, kind, expected {(element, name, aspect)}), each read
+# from `git show COMMIT` (the YAML and xacro lines it changes, for this variant)
 PAIRS = [
-    ("352a35c", "ur3", NEW_ARGS, "semantic: ur3 wrist 3 made continuous (YAML + xacro)",
+    (UR, "352a35c", ENTRY, ur("ur3"), "semantic: ur3 wrist 3 made continuous (YAML + xacro)",
      {("joint", "wrist_3_joint", a) for a in
       ("type", "limit.lower", "limit.upper", "safety_controller")}),
-    ("352a35c", "ur5e", NEW_ARGS, "refactor for ur5e (same commit): nothing", set()),
-    ("9712b2e", "ur20", NEW_ARGS, "semantic: UR20 effort and velocity limits (YAML)",
+    (UR, "352a35c", ENTRY, ur("ur5e"), "refactor for ur5e (same commit): nothing", set()),
+    (UR, "9712b2e", ENTRY, ur("ur20"), "semantic: UR20 effort and velocity limits (YAML)",
      {("joint", j, a) for j in JOINTS6 for a in ("limit.effort", "limit.velocity")}),
-    ("aa2db08", "ur5e", NEW_ARGS, "semantic: link masses (YAML; inertias follow them)",
+    (UR, "aa2db08", ENTRY, ur("ur5e"), "semantic: link masses (YAML; inertias follow them)",
      {("link", l, a) for l in LINKS6 for a in ("mass", "inertia")}),
-    ("707b369", "ur5", NEW_ARGS, "semantic: ur5 base meshes re-exported on the ground",
+    (UR, "707b369", ENTRY, ur("ur5"), "semantic: ur5 base meshes re-exported on the ground",
      {("link", "base_link_inertia", "visual"), ("link", "base_link_inertia", "collision")}),
-    ("ea0c6b5", "ur5e", NEW_ARGS, "semantic: a TCP pose sensor in <ros2_control>",
+    (UR, "ea0c6b5", MOCKED, ["name:=ur", "tf_prefix:=", "ur_type:=ur5e"],
+     "semantic: a TCP pose sensor in <ros2_control> (mock hardware)",
      {("ros2_control", "ur", "changed")}),
-    ("dcb7db0", "ur5e", NEW_ARGS, "formatting only: whitespace", set()),
-    ("6a5b5e5", "ur5e", NEW_ARGS, "refactor: xacro.load_yaml for load_yaml", set()),
-    ("00b1a0f", "ur5e", NEW_ARGS, "refactor: prefix parameter renamed tf_prefix", set()),
-    ("6f4ae5d", "ur5e", OLD_ARGS, "renames: base_link_fixed -> base_link -> base_link_inertia",
+    (UR, "ea0c6b5", ENTRY, ur("ur5e"), "the same commit: ur.urdf.xacro reads no changed file",
+     set()),
+    (UR, "c6f6a7a", ENTRY, ur("ur30"), ("regenerated calibration YAML: numbers re-written, "
+     "wrist_2 z 0 -> -3.27e-11 m"), {("joint", "wrist_2_joint", "origin")}),
+    (UR, "dcb7db0", ENTRY, ur("ur5e"), "formatting only: whitespace", set()),
+    (UR, "6a5b5e5", ENTRY, ur("ur5e"), "refactor: xacro.load_yaml for load_yaml", set()),
+    (UR, "00b1a0f", ENTRY, ur("ur5e"), ("refactor prefix -> tf_prefix; the hardware's prefix "
+     "parameter dropped"), {("ros2_control", "ur", "changed")}),
+    (UR, "6f4ae5d", ENTRY, ur("ur5e", OLD_ARGS),
+     "renames: base_link_fixed -> base_link -> base_link_inertia",
      {("link", "base_link", "renamed"), ("link", "base_link_inertia", "renamed"),
       ("joint", "base_link-base_link_inertia", "renamed"),
       ("link", "base_link_inertia", "mass"), ("link", "base_link_inertia", "inertia")}),
+    (FRANKA, "14c5d63", FR3, [], ("semantic: inertias (YAML) and the one-link hand dropped "
+     "(xacro:if)"), {("link", f"fr3_link{i}", "inertia") for i in range(1, 8)} | {
+         ("link", "fr3_franka_hand", "removed"), ("link", "fr3_franka_hand_tcp", "removed"),
+         ("joint", "fr3_franka_hand_joint", "removed"),
+         ("joint", "fr3_franka_hand_tcp_joint", "removed")}),
+    (FRANKA, "de0dc86", FR3, [], "semantic: link0 inertial added (YAML)",
+     {("link", "fr3_link0", a) for a in ("mass", "com", "inertia")}),
+    (FRANKA, "4bb824f", FR3, [], "formatting: 'rpy: ' -> 'rpy: 0 0 0' (YAML)", set()),
 ]
-REGENERATED = ("regenerated", "ur5e", NEW_ARGS,
+REGENERATED = (UR, "regenerated", ENTRY, ur("ur5e"),
                ("regenerated URDF: every number re-written, attributes reordered; wrist_3_link "
                 "inertia and elbow_joint damping changed"),
                {("link", "wrist_3_link", "inertia"), ("joint", "elbow_joint", "dynamics")})
@@ -95,17 +120,14 @@ def git(repo: Path, *args: str) -> str:
                           check=True).stdout
 
 
-def arguments(args: list[str], variant: str) -> list[str]:
-    return [a.format(v=variant) for a in args] + [f"ur_type:={variant}"]
-
-
 # -- urdftool ---------------------------------------------------------------------------------
 
 
-def urdftool_diff(repo: Path, base: str, head: str, args: list[str], env) -> tuple[list, float]:
+def urdftool_diff(repo: Path, base: str, head: str, entry: str, args: list[str],
+                  env) -> tuple[list, float]:
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     done = run([*URDFTOOL, "diff", "--format", "json", "--trusted", "--timeout", "300",
-                f"{base}..{head}", *args, "--", "urdf/ur.urdf.xacro"], repo, env)
+                f"{base}..{head}", *args, "--", entry], repo, env)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if done.returncode != 0:
         raise SystemExit(f"urdftool diff {base}..{head}: {done.stderr}")
@@ -121,15 +143,22 @@ def found_by_urdftool(robots: list) -> tuple[set, list]:
 # -- the expanded URDFs for robot-diff and the name baseline ---------------------------------
 
 
-def expand_at(repo: Path, commit: str, args: list[str], out: Path, env) -> None:
+def expand_at(repo: Path, commit: str, entry: str, args: list[str], out: Path, env) -> None:
+    """``urdftool expand`` of ``entry`` at ``commit`` (its files from git objects; a path
+    argument names the file of that commit)."""
+    sys.path.insert(0, str(ROOT))
+    from urdftool.diff.revisions import commit as resolve
+    from urdftool.diff.revisions import materialize
+
     with tempfile.TemporaryDirectory(prefix="bench-diff-") as tree:
-        archive = subprocess.run(["git", "-C", str(repo), "archive", commit],
-                                 capture_output=True, check=True).stdout
-        subprocess.run(["tar", "-x", "-C", tree], input=archive, check=True)
-        mapped = [f"{a.split(':=')[0]}:={tree}/{a.split(':=')[1]}" if a.split(":=")[1].startswith("config/")
-                  else a for a in args]
+        materialize(repo, resolve(repo, commit), Path(tree))
+        mapped = []
+        for a in args:
+            name, _, value = a.partition(":=")
+            mapped.append(f"{name}:={tree}/{value}" if value and (Path(tree) / value).is_file()
+                          else a)
         done = run([*URDFTOOL, "expand", "--trusted", "--timeout", "300",
-                    f"{tree}/urdf/ur.urdf.xacro", *mapped, "-o", str(out)], repo, env)
+                    f"{tree}/{entry}", *mapped, "-o", str(out)], repo, env)
         if not out.exists():
             raise SystemExit(f"urdftool expand at {commit}: {done.stderr}")
 
@@ -176,8 +205,9 @@ def robot_diff(old: Path, new: Path, source: Path) -> set:
             "print(json.dumps(out))\n")
     done = run([sys.executable, "-c", code, str(old), str(new)], source,
                {**os.environ, "PYTHONPATH": str(source)})
-    if done.returncode != 0:
-        raise SystemExit(f"robot-diff: {done.stderr}")
+    if done.returncode != 0:  # its schema refuses the file (a misplaced element): no answer
+        print(f"    robot-diff refused: {done.stderr.strip().splitlines()[-1]}")
+        return set()
     found = set()
     for element, name, status, paths in json.loads(done.stdout):
         if status in ("added", "removed"):
@@ -286,7 +316,8 @@ class Score:
 
 def main() -> None:
     parser = argparse.ArgumentParser()
-    parser.add_argument("--mirror", type=Path, default=MIRROR)
+    parser.add_argument("--mirrors", type=Path, default=MIRRORS,
+                        help="where `fetch` put the repositories (OWNER+NAME/repo)")
     parser.add_argument("--robot-diff", type=Path, default=ROBOT_DIFF,
                         help="a checkout or git mirror of henrynoyes/robot-diff")
     parser.add_argument("--only", default=None, help="one commit (or 'regenerated')")
@@ -297,8 +328,12 @@ def main() -> None:
     located = total = effects = origins = 0
     with tempfile.TemporaryDirectory(prefix="bench-diff-") as work:
         work = Path(work)
-        repo = work / "ur"
-        subprocess.run(["git", "clone", "-q", str(options.mirror), str(repo)], check=True)
+        clones = {}
+        for name in (UR, FRANKA):  # (a mirror may lack its largest blobs: no checkout)
+            clones[name] = work / name
+            subprocess.run(["git", "clone", "-q", "--no-checkout",
+                            str(options.mirrors / name / "repo"), str(clones[name])], check=True)
+        repo = clones[UR]
         source = options.robot_diff
         if (source / "HEAD").exists() and not (source / "robot_diff").exists():  # a mirror
             snapshot = work / "robot-diff"
@@ -307,31 +342,31 @@ def main() -> None:
                                      capture_output=True, check=True).stdout
             subprocess.run(["tar", "-x", "-C", str(snapshot)], input=archive, check=True)
             source = snapshot
-        print(f"{'pair':<34} {'kind':<62} {'exp':>3} | urdftool hit/extra | robot-diff | name-xml")
-        for commit, variant, args, kind, expected in [*PAIRS, REGENERATED]:
+        print(f"{'pair':<44} {'kind':<60} {'exp':>3} | urdftool | robot-diff | name-xml "
+              "(found/spurious)")
+        for name, commit, entry, args, kind, expected in [*PAIRS, REGENERATED]:
             if options.only and options.only != commit:
                 continue
-            args = arguments(args, variant)
+            repo = clones[name]
             old, new = work / f"{commit}-old.urdf", work / f"{commit}-new.urdf"
             if commit == "regenerated":
-                head = git(repo, "rev-parse", "HEAD").strip()
-                expand_at(repo, head, arguments(NEW_ARGS, variant), old, env)
+                expand_at(repo, "HEAD", entry, args, old, env)
                 regenerated(old, new)
                 done = run([*URDFTOOL, "diff", "--format", "json", "--trusted", str(old),
                             str(new)], work, env)
                 robots = json.loads(done.stdout)["robots"]
             else:
-                git(repo, "checkout", "-q", commit)
-                robots, _ = urdftool_diff(repo, f"{commit}~1", commit, args, env)
-                expand_at(repo, f"{commit}~1", args, old, env)
-                expand_at(repo, commit, args, new, env)
+                robots, _ = urdftool_diff(repo, f"{commit}~1", commit, entry, args, env)
+                expand_at(repo, f"{commit}~1", entry, args, old, env)
+                expand_at(repo, commit, entry, args, new, env)
             found, changes = found_by_urdftool(robots)
             for change in changes:
                 total += 1
                 where = change["path"] or change["base_path"]
                 line = change["line"] or change["base_line"]
-                base = work if commit == "regenerated" else repo
-                located += bool(where and line and (base / where).is_file())
+                known = {old.name, new.name} if commit == "regenerated" else set(
+                    git(repo, "ls-tree", "-r", "--name-only", commit).split())
+                located += bool(where and line and where in known)
                 if change["aspect"] == "origin":
                     origins += 1
                     effects += "effect" in change
@@ -339,8 +374,8 @@ def main() -> None:
                        scores["robot-diff"].add(expected, robot_diff(old, new, source)),
                        scores["name-xml"].add(expected, name_xml(old, new))]
             cells = " | ".join(f"{hit:>3}/{extra:<4}" for hit, extra in results)
-            print(f"{commit + ' ' + variant:<34} {kind[:62]:<62} {len(expected):>3} | {cells}",
-                  flush=True)
+            label = f"{name.split('+')[1][:10]} {commit} {Path(entry).name}"
+            print(f"{label:<44} {kind[:60]:<60} {len(expected):>3} | {cells}", flush=True)
         print()
         for name, score in scores.items():
             recall = score.found / score.expected if score.expected else 1.0
@@ -351,11 +386,12 @@ def main() -> None:
               f"line; origin changes with their effect {effects}/{origins} (robot-diff and "
               "name-xml: no effects, no locations in the xacro)")
         if options.only is None:
-            timing(repo, env)
+            timing(clones[UR], env)
 
 
 def timing(repo: Path, env) -> None:
-    """The nine UR variants, both sides: 60e6974 changes every variant's inertias."""
+    """The nine UR variants, both sides: 60e6974 changes every variant's inertias. The
+    working tree checked out at 60e6974, as a CI job has it."""
     git(repo, "checkout", "-q", "60e6974")
     with tempfile.TemporaryDirectory(prefix="bench-diff-cache-") as cache:
         cold = {**env, "URDFTOOL_CACHE_DIR": cache}

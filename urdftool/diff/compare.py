@@ -561,29 +561,48 @@ def _tokens_equal(a: str | None, b: str | None) -> bool:
     return True
 
 
+def _child_key(element) -> tuple:
+    return (element.tag, element.get("name") or element.get("reference") or "")
+
+
 def _tree_differences(ea: list, eb: list, path: str = "") -> list[str]:
-    """What differs between two lists of sibling elements (compared in order), as short
-    phrases naming the element path."""
+    """What differs between two lists of sibling elements, aligned by tag and name (a
+    parameter taken out is one removal, not every later one shifted), as short phrases naming
+    the element path."""
+    import difflib
+
     what: list[str] = []
     ea = [e for e in ea if isinstance(e.tag, str)]
     eb = [e for e in eb if isinstance(e.tag, str)]
-    for index in range(max(len(ea), len(eb))):
-        a = ea[index] if index < len(ea) else None
-        b = eb[index] if index < len(eb) else None
-        here = f"{path}/{(b if b is not None else a).tag}"
-        if a is None or b is None:
-            what.append(f"{here} {'added' if a is None else 'removed'}")
+    matcher = difflib.SequenceMatcher(None, [_child_key(e) for e in ea],
+                                      [_child_key(e) for e in eb], autojunk=False)
+    for op, i1, i2, j1, j2 in matcher.get_opcodes():
+        if op == "equal" or (op == "replace" and i2 - i1 == j2 - j1):
+            for a, b in zip(ea[i1:i2], eb[j1:j2]):
+                what.extend(_element_differences(a, b, path))
             continue
-        if a.tag != b.tag:
-            what.append(f"{path}/{a.tag} -> {b.tag}")
-            continue
-        for attribute in sorted(set(a.attrib) | set(b.attrib)):
-            if not _tokens_equal(a.get(attribute), b.get(attribute)) or \
-                    (a.get(attribute) is None) != (b.get(attribute) is None):
-                what.append(f"{here}@{attribute} {a.get(attribute)!r} -> {b.get(attribute)!r}")
-        if not _tokens_equal(a.text, b.text):
-            what.append(f"{here} {(a.text or '').strip()!r} -> {(b.text or '').strip()!r}")
-        what.extend(_tree_differences(list(a), list(b), here))
+        what += [f"{path}/{_shown_key(e)} removed" for e in ea[i1:i2]]
+        what += [f"{path}/{_shown_key(e)} added" for e in eb[j1:j2]]
+    return what
+
+
+def _shown_key(element) -> str:
+    tag, name = _child_key(element)
+    return f"{tag}[{name}]" if name else tag
+
+
+def _element_differences(a, b, path: str) -> list[str]:
+    here = f"{path}/{_shown_key(b)}"
+    if a.tag != b.tag:
+        return [f"{path}/{a.tag} -> {b.tag}"]
+    what = []
+    for attribute in sorted(set(a.attrib) | set(b.attrib)):
+        if not _tokens_equal(a.get(attribute), b.get(attribute)) or \
+                (a.get(attribute) is None) != (b.get(attribute) is None):
+            what.append(f"{here}@{attribute} {a.get(attribute)!r} -> {b.get(attribute)!r}")
+    if not _tokens_equal(a.text, b.text):
+        what.append(f"{here} {(a.text or '').strip()!r} -> {(b.text or '').strip()!r}")
+    what.extend(_tree_differences(list(a), list(b), here))
     return what
 
 

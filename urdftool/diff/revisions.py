@@ -130,6 +130,8 @@ def materialize(repo: Path, revision: str, destination: Path,
         made: set[Path] = set()
         for mode, sha, path in entries:
             header = stream.readline().split()
+            if len(header) == 2 and header[1] == b"missing":
+                continue  # not in this clone (a partial or shallow one): as if absent
             if len(header) != 3 or header[1] != b"blob":
                 raise ToolError(f"git cat-file: cannot read {path} of {revision[:12]}")
             data = stream.read(int(header[2]))
