@@ -273,3 +273,28 @@ def test_an_include_generated_at_build_time_is_a_warning_naming_its_template(tmp
         assert "built package" in hint
     else:
         assert severity == "error" and "generated at build time" not in message
+
+
+@pytest.mark.parametrize("mode", ["--trusted", "--untrusted"])
+@pytest.mark.parametrize("lookup", ["['initial_positions']", ".initial_positions"])
+def test_a_missing_yaml_key_names_the_file_and_its_keys(tmp_path, monkeypatch, mode, lookup):
+    """Issue 29: `load_yaml(f)['initial_positions']` on a file without that key gave a
+    garbled message (the quotes of two expressions crossed), a hint about Python syntax and no
+    word of the YAML file."""
+    from tests.conftest import run_urdftool
+
+    (tmp_path / "config").mkdir()
+    (tmp_path / "config" / "init.yaml").write_text("initial_position:\n  j1: 0.0\nother: 1\n")
+    (tmp_path / "r.urdf.xacro").write_text(
+        HEAD + '  <xacro:property name="pos" value="${xacro.load_yaml(\'config/init.yaml\')'
+        + lookup + '}"/>\n  <link name="base_${pos[\'j1\']}"/>\n</robot>\n')
+    monkeypatch.chdir(tmp_path)
+    result = run_urdftool("check", mode, "--format", "json", "r.urdf.xacro")
+    import json
+
+    (finding,) = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]]
+    assert finding["message"] == (
+        "xacro: YAML file config/init.yaml has no key 'initial_positions' (its keys: "
+        "initial_position, other; did you mean 'initial_position'?) in "
+        "${xacro.load_yaml('config/init.yaml')" + lookup + "} (used in ${pos['j1']})")
+    assert "python syntax" not in finding["hint"] and "YAML file" in finding["hint"]

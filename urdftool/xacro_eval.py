@@ -437,6 +437,9 @@ class Interpreter:
         self._by_id = _identity_map(xacro, tables)
         self._substitution_names = tables["substitution"]
         self._loader = None
+        # id of a YAML dict handed out -> (it, the file and keys it comes from): a missing key
+        # is said with the file's name and keys
+        self._yaml_origin: dict[int, tuple[object, str]] = {}
         self._dispatch = {
             ast.Constant: self._constant, ast.Name: self._name, ast.BinOp: self._binop_node,
             ast.UnaryOp: self._unaryop, ast.BoolOp: self._boolop, ast.Compare: self._compare,
@@ -738,6 +741,8 @@ class Interpreter:
             if type(key) is not str:
                 raise KeyError(key)
             return self.admit(container.table[key])
+        if kind is self._yaml_dict:
+            return self._yaml_key(container, key)
         if kind in (str, list, tuple, range, self._yaml_list) \
                 or isinstance(container, dict):
             self.bounded(key)
@@ -796,7 +801,7 @@ class Interpreter:
             except KeyError:
                 raise NameError(f"name '{name}' is not defined") from None
         if kind is self._yaml_dict and name not in _METHODS[dict]:
-            return obj[name]  # xacro's YamlDictWrapper: the key, wrapped (AttributeError if none)
+            return self._yaml_key(obj, name)  # xacro's YamlDictWrapper: the key, wrapped
         if kind is Function and obj.pytype is not None:
             return _unbound(obj, name)
         pytype = dict if kind is self._yaml_dict else list if kind is self._yaml_list else kind
@@ -1081,6 +1086,36 @@ class Interpreter:
 
     # -- YAML --
 
+    def _yaml_key(self, mapping, key):
+        """``mapping[key]`` of YAML data (xacro wraps the value); a missing key is the
+        AttributeError xacro raises, naming the file, the keys it has and the closest."""
+        self.bounded(key)
+        try:
+            result = mapping[key]
+        except AttributeError:
+            origin = self._yaml_origin.get(id(mapping))
+            if origin is None or origin[0] is not mapping:
+                raise
+            keys = [str(k) for k in dict.keys(mapping)]
+            import difflib
+
+            close = difflib.get_close_matches(str(key), keys, n=1, cutoff=0.6)
+            shown = ", ".join(keys[:20]) + (f" and {len(keys) - 20} more" if len(keys) > 20
+                                            else "")
+            raise AttributeError(
+                f"{origin[1]} has no key '{key}' (its keys: {shown or 'none'}"
+                + (f"; did you mean '{close[0]}'?)" if close else ")")) from None
+        if type(result) is self._yaml_dict:
+            origin = self._yaml_origin.get(id(mapping))
+            if origin is not None and origin[0] is mapping:
+                self._remember(result, f"{origin[1]}, under '{key}'")
+        return result
+
+    def _remember(self, mapping, where: str):
+        if len(self._yaml_origin) > 4096:
+            self._yaml_origin.clear()
+        self._yaml_origin[id(mapping)] = (mapping, where)
+
     def load_yaml(self, filename: str):
         """``xacro.load_yaml``: the safe loader, units through this interpreter, data checked."""
         xacro = self._xacro
@@ -1094,7 +1129,7 @@ class Interpreter:
         known = _YAML_DATA.get(text)
         if known is not None:  # parsed before (the language server expands on every edit)
             xacro.all_includes.append(path)
-            return xacro.YamlListWrapper.wrap(copy.deepcopy(known))
+            return self._loaded(xacro.YamlListWrapper.wrap(copy.deepcopy(known)), filename)
         xacro.filestack.append(path)
         try:
             import yaml
@@ -1111,7 +1146,16 @@ class Interpreter:
             if len(_YAML_DATA) >= 64:
                 _YAML_DATA.clear()
             _YAML_DATA[text] = copy.deepcopy(data)  # expressions may change what they get
-        return xacro.YamlListWrapper.wrap(data)
+        return self._loaded(xacro.YamlListWrapper.wrap(data), filename)
+
+    def _loaded(self, data, filename: str):
+        """YAML data handed out by ``load_yaml``, remembered with the file's name (as the
+        expression gave it; a long absolute path by its last parts)."""
+        if type(data) is self._yaml_dict:
+            parts = filename.replace("\\", "/").split("/")
+            self._remember(data, "YAML file " + (
+                "/".join(parts[-3:]) if filename.startswith("/") else filename))
+        return data
 
     def _yaml_loader(self):
         if self._loader is not None:

@@ -39,12 +39,29 @@ _PATTERNS: list[tuple[str, str]] = [
         r"Undefined parameters|Invalid parameter|Not enough blocks|Unused block|"
         r"Undefined block|were not set for macro|Undefined property to forward")),
     ("undefined-property", r"name '(?P<name>[^']+)' is not defined"),
+    ("yaml-key", r"has no key '(?P<name>[^']+)'"),
     ("bad-expression", (
         r"when evaluating expression|invalid expression|not a boolean expression|"
         r"Use of invalid name|circular variable definition|invalid syntax")),
 ]
 
-_EXPRESSION = r"(?s)when evaluating expression '(?P<expr>.*)'"
+_EXPRESSION = "when evaluating expression '"
+
+
+def _expressions(text: str) -> tuple[str, list[str]]:
+    """(the message before xacro's context, the expressions it was evaluating: innermost
+    first). xacro appends ``; when evaluating expression 'EXPR'`` at every level (a property
+    read by another expression adds one), and an expression may hold quotes."""
+    first = text.find(_EXPRESSION)
+    if first < 0:
+        return text, []
+    pieces = text[first:].split(_EXPRESSION)[1:]
+    expressions = []
+    for index, piece in enumerate(pieces):
+        if index < len(pieces) - 1:
+            piece = piece.rstrip().removesuffix(";").rstrip()
+        expressions.append(piece.rstrip().removesuffix("'"))
+    return text[:first], expressions
 
 
 def _defined_names(robot: Robot, kind: str) -> list[str]:
@@ -69,9 +86,11 @@ def classify(message: str, robot: Robot | None = None) -> tuple[str, str, str | 
     """(kind, message, hint) for a xacro error message as recorded while loading; kind is one
     of the _PATTERNS names, or "other" (message unchanged, no hint)."""
     text = message.removeprefix("xacro:").strip()
-    expression = re.search(_EXPRESSION, text)
-    expr = expression.group("expr").strip() if expression else None
-    head = re.sub(_EXPRESSION, "", text).strip().rstrip(".;,: ")
+    head, expressions = _expressions(text)
+    expr = expressions[0].strip() if expressions else None
+    head = head.strip().rstrip(".;,: ")
+    # read through properties: the outermost use says where
+    through = f" (used in ${{{expressions[-1].strip()}}})" if len(expressions) > 1 else ""
     for kind, pattern in _PATTERNS:
         match = re.search(pattern, text)
         if match is None:
@@ -79,7 +98,7 @@ def classify(message: str, robot: Robot | None = None) -> tuple[str, str, str | 
         name = match.groupdict().get("name")
         if kind == "undefined-property":
             known = _defined_names(robot, "property") if robot else []
-            where = f" in ${{{expr}}}" if expr and expr != name else ""
+            where = (f" in ${{{expr}}}" if expr and expr != name else "") + through
             if name in known:
                 return (kind, f"xacro: property '{name}' is used{where} before it is defined",
                         ("xacro reads top to bottom: move its <xacro:property> above the first "
@@ -105,11 +124,14 @@ def classify(message: str, robot: Robot | None = None) -> tuple[str, str, str | 
             return (kind, f"xacro: {head}",
                     ("check the filename (relative paths are relative to the including file), "
                     "or use $(find PACKAGE)/path"))
+        if kind == "yaml-key":  # the interpreter named the file and its keys
+            return (kind, f"xacro: {head}" + (f" in ${{{expr}}}" if expr else "") + through,
+                    "use a key the YAML file has (they are listed), or add it to the file")
         if kind == "macro-parameters":
             return (kind, f"xacro: {head}",
                     ("pass exactly the macro's params (name=\"value\" attributes, and one child "
                     "block per *block parameter), or give defaults: params=\"x:=0\""))
-        where = f" in ${{{expr}}}" if expr else ""
+        where = (f" in ${{{expr}}}" if expr else "") + through
         return (kind, f"xacro: {head}{where}",
                 ("fix the expression (python syntax inside ${...}; "
                 "conditions must be true/false/1/0)"))
