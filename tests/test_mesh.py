@@ -4,6 +4,7 @@ the closed-form box; the once-per-run mesh cache; PyBullet as a second opinion o
 from __future__ import annotations
 
 import json
+import subprocess
 import shlex
 from pathlib import Path
 
@@ -537,3 +538,39 @@ def test_a_slip_in_the_mesh_folder_name_is_fixed(tmp_path):
     assert "package://arm_description/meshes/part0.stl" in \
         (package / "urdf" / "arm.urdf").read_text()
     assert _not_found(package) == []
+
+
+def test_a_slip_in_a_mesh_package_name_is_fixed(tmp_path):
+    """mesh.unresolved: `package://arm_descripton/...` beside package arm_description gets
+    that name as its safe fix, for every mesh of that package name; a name near two packages
+    gets none."""
+    package = _arm_package(tmp_path, ["a.stl", "b.stl"])
+    (package / "meshes").mkdir()
+    for name in ("a.stl", "b.stl"):
+        (package / "meshes" / name).write_text("solid x\nendsolid x\n")
+    robot = package / "urdf" / "arm.urdf"
+    robot.write_text(robot.read_text().replace("package://arm_description/",
+                                               "package://arm_descripton/"))
+    result = run_urdftool("check", "--format", "json", "--jobs", "1", str(robot))
+    (found,) = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+                if d["rule"] == "mesh.unresolved"]
+    assert "did you mean package 'arm_description'?" in found["hint"]
+    assert [(e["line"], e["text"]) for e in found["fix"]["edits"]] == \
+        [(2, "package://arm_description/"), (3, "package://arm_description/")]
+    assert run_urdftool("check", "--fix", "--in-place", str(robot)).code in (0, 1)
+    assert "descripton" not in robot.read_text()
+    # two packages one slip away: no guess (another repository: the memo of a run's
+    # packages is per process)
+    two = tmp_path / "two"
+    package = _arm_package(two, ["a.stl"])
+    other = two / "arm_descripion"
+    other.mkdir()
+    (other / "package.xml").write_text("<package><name>arm_descripion</name></package>")
+    subprocess.run(["git", "init", "-q", str(two)], check=True)
+    robot = package / "urdf" / "arm.urdf"
+    robot.write_text(robot.read_text().replace("package://arm_description/",
+                                               "package://arm_descripton/"))
+    result = run_urdftool("check", "--format", "json", "--jobs", "1", str(robot))
+    (found,) = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+                if d["rule"] == "mesh.unresolved"]
+    assert "did you mean" not in found["hint"] and not found.get("fix")

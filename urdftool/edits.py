@@ -363,6 +363,20 @@ def tail_edit(texts: dict[str, str], loc, names: tuple[str, ...], attr: str, old
     return edit(loc.path, text, span[3] - len(old), span[3], new, starts)
 
 
+def head_edit(texts: dict[str, str], loc, names: tuple[str, ...], attr: str, old: str,
+              new: str) -> Edit | None:
+    """The edit replacing ``old`` by ``new`` at the start of attribute ``attr`` of the element
+    written at ``loc``, when the value as written starts with ``old`` literally (the package of
+    a ``package://NAME/...`` URI); None otherwise."""
+    found = _written(texts, loc, names, attr)
+    if found is None or found[3] is None:
+        return None
+    text, starts, _, span = found
+    if not text[span[2]:span[3]].startswith(old) or "$" in old:
+        return None
+    return edit(loc.path, text, span[2], span[2] + len(old), new, starts)
+
+
 def text_edit(texts: dict[str, str], loc, names: tuple[str, ...], new: str) -> Edit | None:
     """The edit making ``new`` the text of the element written at ``loc`` (``<tag>text</tag>``,
     blanks around it kept); None when its text is computed (``${...}``) or not found."""

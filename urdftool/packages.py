@@ -264,6 +264,13 @@ class PackageResolver:
             self._found = self._discover()
         return self._found.get(name)
 
+    def known(self) -> list[str]:
+        """The names of the packages ``find`` knows, and ``urdftool`` (``by_directory``'s
+        example meshes): for a did-you-mean."""
+        if self._found is None:
+            self._found = self._discover()
+        return sorted({*self.explicit, *self._found, "urdftool"})
+
     def tried(self) -> str:
         """Where ``find`` looked, and what would widen it (for a finding's hint)."""
         places = ["-P NAME=DIR" + (f" ({', '.join(sorted(self.explicit))})"

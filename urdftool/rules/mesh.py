@@ -45,12 +45,16 @@ cannot be checked, and a robot tool run in the same environment will not find it
 some tools (pinocchio) accept it. Other URI schemes (`http://`, `model://`) are not
 local files. One finding per missing package (or scheme), at its first mesh, says how many
 meshes share it: one `-P` fixes them all. In an SDF, `model://` meshes are reported by the SDF
-reader (`sdf.mesh-uri`) with the model paths it searched.""",
+reader (`sdf.mesh-uri`) with the model paths it searched. A package name one slip away from
+exactly one package urdftool knows (`ur_descripton`) gets that name as its fix (safe: every
+mesh URI of that package name written literally).""",
       bad='<robot name="r"><link name="a"><visual><geometry>'
-          '<mesh filename="package://no_such_package_xyz/meshes/a.stl"/>'
+          '<mesh filename="package://urdftol/physics/examples/open_box.stl"/>'
           '</geometry></visual></link></robot>',
       good='<robot name="r"><link name="a"><visual><geometry>'
-           '<box size="0.1 0.1 0.1"/></geometry></visual></link></robot>')
+           '<mesh filename="package://urdftool/physics/examples/open_box.stl"/>'
+           '</geometry></visual></link></robot>',
+      fix="safe")
 def unresolved(robot):
     # one finding per missing package (or URI scheme), at its first mesh: one -P or one path
     # variable fixes them all, and a humanoid has a hundred meshes in the same package
@@ -74,10 +78,23 @@ def unresolved(robot):
                           "ROS's resource retriever rejects it", _loc(info),
                           hint="write package://PACKAGE/" + uri[len("package:///"):])
         elif kind == "package":
+            guess = _package_guess(robot, name)
+            edits = ()
+            if guess is not None:
+                from urdftool.edits import head_edit
+
+                # every mesh of the misspelt package, where its URI is written literally (a
+                # macro line is one edit however many instances it has)
+                made = {head_edit(robot.source.texts, _loc(i), ("mesh",), "filename",
+                                  f"package://{name}/", f"package://{guess}/")
+                        for _, i, _ in meshes}
+                edits = tuple(sorted((e for e in made if e is not None),
+                                     key=lambda e: (e.path, e.line, e.column)))
             yield Finding(f"{_what(a, info)} mesh {uri!r}: package '{name}' is not found{more}, "
                           f"so {_SKIPPED}", _loc(info),
-                          hint=f"pass -P {name}=DIR, or put the directory holding it on "
-                               "ROS_PACKAGE_PATH" + _tried(robot))
+                          hint=(f"did you mean package '{guess}'? " if guess else "")
+                          + f"pass -P {name}=DIR, or put the directory holding it on "
+                            "ROS_PACKAGE_PATH" + _tried(robot), edits=edits)
         elif name == "model":
             yield Finding(f"{_what(a, info)} mesh {uri!r}{more}: model:// is resolved by Gazebo "
                           "alone (from its resource path); other URDF tools cannot read it, "
@@ -244,6 +261,14 @@ def _relative_name(folder, directory) -> str:
         return folder.relative_to(directory).as_posix().lower()
     except ValueError:
         return folder.name.lower()
+
+
+def _package_guess(robot, name: str) -> str | None:
+    """The one known package ``name`` is a slip of (``did_you_mean``), if any."""
+    from urdftool.rules import did_you_mean
+
+    known = getattr(getattr(robot.source, "resolver", None), "known", None)
+    return did_you_mean(name, known()) if known is not None else None
 
 
 def _tried(robot) -> str:
