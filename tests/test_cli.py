@@ -153,6 +153,42 @@ def test_utf16_file_is_read(tmp_path):
     assert json.loads(result.out)["files"][0]["robot"] == "two"
 
 
+LATIN = ('<?xml version="1.0" encoding="{encoding}"?>\n<!-- Bras articul\u00e9 -->\n'
+         '<robot name="bras" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+         '  <xacro:property name="n" value="t\u00eate"/>\n  <link name="base"/>\n'
+         '  <link name="${{n}}"/>\n  <joint name="j" type="revolute"><parent link="base"/>'
+         '<child link="t\u00eate"/>\n    <axis xyz="0 0 2"/>'
+         '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>\n</robot>\n')
+
+
+@pytest.mark.parametrize("encoding, codec", [("ISO-8859-1", "latin-1"),
+                                             ("windows-1252", "cp1252"),
+                                             ("ISO-8859-15", "iso8859-15")])
+@pytest.mark.parametrize("suffix", [".urdf", ".urdf.xacro"])
+def test_a_declared_encoding_is_read_and_fixes_are_written_in_it(tmp_path, encoding, codec,
+                                                                 suffix):
+    """Issue 29: valid ISO-8859-1 XML with its declaration was refused as 'not UTF-8'."""
+    path = tmp_path / ("bras" + suffix)
+    data = LATIN.format(encoding=encoding).encode(codec)
+    path.write_bytes(data)
+    for mode in ("--trusted", "--untrusted"):
+        result = run_urdftool("check", mode, "--format", "json", path)
+        report = json.loads(result.out)
+        assert report["files"][0]["robot"] == "bras", result.err
+        rules = [d["rule"] for d in report["files"][0]["diagnostics"]]
+        assert "joint.axis-not-unit" in rules and not any(
+            r.startswith(("xml.", "structure.", "xacro.")) for r in rules), rules
+    fixed = run_urdftool("check", "--fix", "--in-place", path)
+    assert "fixed" in fixed.err, fixed.err
+    written = path.read_bytes()  # in its own encoding, the declaration kept, one line changed
+    assert written == data.replace(b'xyz="0 0 2"', b'xyz="0 0 1"')
+    wrong = tmp_path / ("wrong" + suffix)
+    wrong.write_bytes(LATIN.format(encoding="ISO-8859-1").encode("latin-1")
+                      .replace(b"ISO-8859-1", b"US-ASCII"))
+    refused = run_urdftool("check", wrong)
+    assert refused.code == 2 and "not ascii text as its XML declaration says" in refused.err
+
+
 def test_missing_file_and_empty_directory(tmp_path):
     missing = run_urdftool("check", tmp_path / "nope.urdf")
     assert missing.code == 2 and "no such file" in missing.err

@@ -103,11 +103,16 @@ def encoded(path: str | Path, original: str, fixed: str) -> tuple[str, str]:
         data = Path(path).read_bytes()
     except OSError:
         return fixed, "utf-8"
-    encoding = next((e for bom, e in _BOMS if data.startswith(bom)), "utf-8")
+    from urdftool.textscan import declared_encoding
+
+    encoding = next((e for bom, e in _BOMS if data.startswith(bom)), None) \
+        or declared_encoding(data) or "utf-8"
     try:
         raw = data.decode(encoding)
     except UnicodeDecodeError:
         return fixed, "utf-8"
+    if not encoding.startswith("utf"):  # (ISO-8859-1...): what it cannot hold as references
+        fixed = fixed.encode(encoding, "xmlcharrefreplace").decode(encoding)
     if encoding == "utf-8":
         if fixed.isascii():
             return fixed, encoding

@@ -23,7 +23,7 @@ from urdftool.files import read_regular, read_regular_text
 from urdftool.findings import Finding, Loc
 from urdftool.packages import PackageResolver
 from urdftool.roots import has_vcs_component, repository_for, resolved
-from urdftool.textscan import declared_utf8, without_comments
+from urdftool.textscan import declared_encoding, declared_utf8, without_comments
 from urdftool.xmlrepair import repair_and_parse, secure_parser
 
 ROBOT_SUFFIXES = (".urdf", ".xacro", ".sdf")
@@ -224,8 +224,9 @@ def shown_path(file: str | Path, entry: str) -> str:
 
 
 def read_text(path: Path) -> str:
-    """Read a file as text: UTF-8, or UTF-16/32 with a BOM. Raises ToolError on anything else.
-    An encoding declaration is rewritten to UTF-8 (the text is decoded now), lines unchanged."""
+    """Read a file as text: UTF-8, UTF-16/32 with a BOM, or the encoding its XML declaration
+    names (any Python knows). Raises ToolError on anything else. An encoding declaration is
+    rewritten to UTF-8 (the text is decoded now), lines unchanged."""
     data = read_bytes(path)
     for bom, encoding in ((codecs.BOM_UTF32_LE, "utf-32"), (codecs.BOM_UTF32_BE, "utf-32"),
                           (codecs.BOM_UTF8, "utf-8-sig"), (codecs.BOM_UTF16_LE, "utf-16"),
@@ -237,6 +238,13 @@ def read_text(path: Path) -> str:
                 break
     if b"\x00" in data[:4096]:
         raise ToolError(f"{path}: binary file, not an XML robot description")
+    declared = declared_encoding(data)
+    if declared is not None:  # ISO-8859-1, Windows-1252, ...: read as the declaration says
+        try:
+            return declared_utf8(data.decode(declared))
+        except UnicodeDecodeError as exc:
+            raise ToolError(f"{path}: not {declared} text as its XML declaration says (byte "
+                            f"{exc.start})") from None
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:

@@ -67,6 +67,26 @@ def markup_split(document: str) -> list[str]:
 _DECLARED = re.compile(r"(<\?xml[^<>]*?encoding\s*=\s*)([\"'])[^\"'<>]*\2")
 
 
+_DECLARED_BYTES = re.compile(rb"<\?xml[^<>]*?encoding\s*=\s*[\"']([A-Za-z][\w.:-]{0,40})[\"']")
+
+
+def declared_encoding(data: bytes) -> str | None:
+    """The Python codec of the encoding ``data``'s XML declaration names (ASCII-compatible
+    bytes, before any BOM handling), or None: no declaration, a Unicode encoding (UTF-8's is
+    the default; UTF-16/32 have a BOM), or a name Python does not know."""
+    import codecs
+
+    head = data[:1024]
+    match = _DECLARED_BYTES.match(head, len(head) - len(head.lstrip()))
+    if match is None:
+        return None
+    try:
+        name = codecs.lookup(match.group(1).decode("ascii")).name
+    except LookupError:
+        return None
+    return None if name.startswith(("utf-8", "utf-16", "utf-32", "utf_")) else name
+
+
 def declared_utf8(text: str) -> str:
     """``text`` with the encoding its first XML declaration names made UTF-8 (the text is
     decoded already). Only the first ``<?xml`` is looked at, up to its ``>``."""
