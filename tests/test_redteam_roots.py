@@ -6,6 +6,7 @@ script in bash), the hook (the real ``pre-commit`` running .pre-commit-hooks.yam
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
 import subprocess
@@ -203,3 +204,61 @@ def test_action_an_unknown_package_is_not_looked_for_outside_the_repository(tmp_
         assert str(tmp_path) not in run.output, run.output
         answers.append([line for line in run.output.splitlines() if line.startswith("::")])
     assert answers[0] == answers[1] and answers[0], answers
+
+
+SIMMED = ('<?xml version="1.0"?>\n<robot name="r"><link name="base"><inertial><mass value="1"/>'
+          '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'
+          '<collision><geometry><mesh filename="{mesh}"/></geometry></collision></link>'
+          '</robot>\n')
+
+
+def _sim(repo: Path, *args: str) -> subprocess.CompletedProcess:
+    """``urdftool sim`` as a CI job runs it (CI=true: untrusted)."""
+    import os
+
+    from tests.conftest import ROOT
+
+    env = {**os.environ, "CI": "true", "PYTHONPATH": str(ROOT)}
+    env.pop("URDFTOOL_DEBUG", None)
+    return subprocess.run([sys.executable, "-m", "urdftool", "sim", "--timeout", "20", *args],
+                          cwd=repo, env=env, capture_output=True, text=True, timeout=120,
+                          check=False)
+
+
+def test_sim_gives_pybullet_no_fifo(tmp_path):
+    """Issue 28.6: ``sim`` handed PyBullet the mesh names as written: a FIFO in the checkout
+    blocked it forever (``--timeout`` ignored). PyBullet gets only regular files urdftool
+    found; the FIFO is named, not opened."""
+    import os
+
+    repo = tmp_path / "team"
+    repo.mkdir()
+    os.mkfifo(repo / "wheel.stl")
+    (repo / "r.urdf").write_text(SIMMED.format(mesh="wheel.stl"))
+    done = _sim(repo, "r.urdf")
+    output = done.stdout + done.stderr
+    assert "wheel.stl (not a regular file" in output, output
+    assert "Traceback" not in output
+
+
+def test_sim_gives_pybullet_no_mesh_outside_the_roots(tmp_path):
+    """A mesh outside the repository was opened by the unconfined simulator: its verdict told
+    whether a file of the runner exists, and its shape. The same answer either way now."""
+    repo = tmp_path / "team"
+    repo.mkdir()
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    (repo / "r.urdf").write_text(SIMMED.format(mesh=str(outside / "m.stl")))
+    _git(tmp_path, "init", "-q", str(repo))
+    answers = []
+    for exists in (True, False):
+        if exists:
+            shutil.copy(Path(__file__).resolve().parent.parent / "urdftool" / "physics" /
+                        "examples" / "open_box.stl", outside / "m.stl")
+        else:
+            (outside / "m.stl").unlink()
+        done = _sim(repo, "--format", "json", "r.urdf")
+        checks = [(c["check"], c["status"], c["message"])
+                  for m in json.loads(done.stdout)["models"] for c in m["checks"]]
+        answers.append(checks)
+    assert answers[0] == answers[1], answers

@@ -80,6 +80,7 @@ class Prepared:
     notes: list[str] = field(default_factory=list)
     xml_problem: str | None = None  # the first XML problem of a URDF (PyBullet may cope)
     mesh_paths: dict[str, str] = field(default_factory=dict)  # mesh URI as written -> file
+    not_read: dict[str, str] = field(default_factory=dict)  # ``_not_read`` name -> as written
     _tempdir: tempfile.TemporaryDirectory | None = field(default=None, repr=False)
 
     def scratch_dir(self) -> str:
@@ -244,39 +245,72 @@ def _first_problem(source, families: tuple[str, ...]) -> str | None:
     return None
 
 
-def _pybullet_search(relative: str, base_dir: Path) -> Path | None:
+def _pybullet_search(relative: str, base_dir: Path, allows) -> Path | None:
     """Where PyBullet itself finds a relative mesh path (``package://`` dropped): next to the
-    URDF or up to five folders above it."""
+    URDF or up to five folders above it, inside the run's roots (``allows``) only."""
     relative = relative.lstrip("/")  # package:///NAME/... has an empty package name
     directory = base_dir
     for _ in range(6):
         candidate = directory / relative
-        if candidate.exists():
+        if allows(candidate) and candidate.exists():
             return candidate
         directory = directory.parent
     return None
 
 
-def _resolve(filename: str, source) -> Path | None:
-    """A mesh file as PyBullet should get it (absolute), or None when it is nowhere."""
+NOT_FOUND = "not found"
+
+
+def _lookup(filename: str, source) -> tuple[Path | None, str]:
+    """A mesh file as PyBullet gets it (its realpath: a regular file inside the run's roots,
+    what urdftool's readers would read), or None and why not (``NOT_FOUND``, outside the
+    roots, not a regular file)."""
+    import os
+    import stat
+
+    allows = source.resolver.allows if source.resolver is not None else (lambda _: True)
     base_dir = source.base_dir
     resolved = source.resolver.resolve_uri(filename, base_dir) if source.resolver else None
-    if resolved is not None and Path(resolved).exists():
-        return Path(resolved).resolve()
-    if filename.startswith("package://"):
-        found = _pybullet_search(filename[len("package://"):], base_dir)
-    elif "://" not in filename and not Path(filename).is_absolute():
-        found = _pybullet_search(filename, base_dir)
-    else:
-        found = None
-    if found is not None and source.resolver is not None and not source.resolver.allows(found):
-        found = None  # --untrusted: inside the package roots only
-    return found.resolve() if found is not None else None
+    found = Path(resolved) if resolved is not None and Path(resolved).exists() else None
+    if found is None and filename.startswith("package://"):
+        found = _pybullet_search(filename[len("package://"):], base_dir, allows)
+    elif found is None and "://" not in filename and not Path(filename).is_absolute():
+        found = _pybullet_search(filename, base_dir, allows)
+    if found is None:
+        return None, NOT_FOUND
+    if not allows(found):
+        return None, "outside the repository and the operator's directories: not read"
+    try:
+        real = Path(os.path.realpath(found))
+        regular = stat.S_ISREG(os.stat(real).st_mode)
+    except (OSError, ValueError):
+        return None, NOT_FOUND
+    if not regular:
+        return None, "not a regular file (a device, FIFO or socket): not read"
+    return real, ""
 
 
-def _note_unresolved(prepared: Prepared, filename: str) -> None:
-    if filename not in prepared.unresolved:
-        prepared.unresolved.append(filename)
+def _resolve(filename: str, source) -> Path | None:
+    """``_lookup``'s file, or None."""
+    return _lookup(filename, source)[0]
+
+
+def _note_unresolved(prepared: Prepared, filename: str, source) -> None:
+    why = _lookup(filename, source)[1]
+    shown = filename if why == NOT_FOUND else f"{filename} ({why})"
+    if shown not in prepared.unresolved:
+        prepared.unresolved.append(shown)
+
+
+def _not_read(prepared: Prepared, filename: str) -> str:
+    """Where a mesh that is not given to PyBullet points in the copy it loads: a name in the
+    model's own scratch folder where nothing is (PyBullet answers as for a missing file, and
+    opens nothing of the machine), with the written name's suffix (PyBullet picks its reader
+    by it)."""
+    suffix = Path(filename.split("?", 1)[0]).suffix[:16]
+    name = str(Path(prepared.scratch_dir()) / "not-read" / f"{len(prepared.not_read)}{suffix}")
+    prepared.not_read[name] = filename
+    return name
 
 
 def _rewrite_tree_uris(root, source, prepared: Prepared) -> None:
@@ -287,28 +321,35 @@ def _rewrite_tree_uris(root, source, prepared: Prepared) -> None:
         resolved = _resolve(filename, source)
         if resolved is not None:
             element.set("filename", str(resolved))
-        elif element.tag == "mesh":
-            _note_unresolved(prepared, filename)
+            continue
+        if element.tag == "mesh":
+            _note_unresolved(prepared, filename, source)
+        element.set("filename", _not_read(prepared, filename))
 
 
-# (a tag's text never crosses a '<': each match looks no further than the next one)
-_FILENAME_RE = re.compile(r"(<(?:mesh|texture)\b[^<>]*?\bfilename\s*=\s*)([\"'])([^<]*?)\2")
+# every filename attribute, in any tag (a URDF has them on <mesh> and <texture>, and whatever
+# tinyxml2 reads as one is written so: a quoted value after `filename=`); linear: a value never
+# runs past its closing quote
+_FILENAME_RE = re.compile(r"""(\bfilename\s*=\s*)(?:"([^"]*)"|'([^']*)')""")
 
 
 def _rewrite_text_uris(text: str, source, prepared: Prepared) -> str:
-    """Absolute mesh paths in the file's own text: every line stays where the user wrote it
-    (and a malformed file stays malformed: PyBullet judges what the user wrote)."""
+    """Every file name of the file's own text replaced by the file ``_lookup`` found, or by a
+    name where nothing is (``_not_read``): PyBullet opens no name as written (a FIFO, a file
+    outside the roots). Every line stays where the user wrote it (and a malformed file stays
+    malformed: PyBullet judges what the user wrote)."""
 
     def replace(match: re.Match) -> str:
-        filename = match.group(3)
-        resolved = _resolve(filename, source) if filename else None
-        if resolved is None:
-            if filename and "<mesh" in match.group(1):
-                _note_unresolved(prepared, filename)
+        quote = '"' if match.group(2) is not None else "'"
+        filename = match.group(2) if match.group(2) is not None else match.group(3)
+        if not filename:
             return match.group(0)
-        quote = match.group(2)
-        value = str(resolved).replace("&", "&amp;").replace(quote, "&quot;" if quote == '"'
-                                                             else "&apos;")
+        resolved = _resolve(filename, source)
+        if resolved is None:
+            _note_unresolved(prepared, filename, source)
+        value = str(resolved) if resolved is not None else _not_read(prepared, filename)
+        value = value.replace("&", "&amp;").replace(quote, "&quot;" if quote == '"'
+                                                    else "&apos;")
         return f"{match.group(1)}{quote}{value}{quote}"
 
     return _FILENAME_RE.sub(replace, text)
@@ -547,17 +588,12 @@ def prepare(path: str, options, from_directory: bool = False) -> Prepared:
     if problem:
         prepared.problem = problem
         return prepared
+    # PyBullet always loads a copy whose every mesh is the file urdftool found (or none): never
+    # the user's file, whose names PyBullet would open as written (issue 28.6)
     if modified or source.kind != "urdf" or repaired:
         _write_tree_copy(tree, origin, source, prepared)
-    elif any("://" in (e.get("filename") or "") for e in root.iter("mesh", "texture")):
-        _write_text_copy(source.texts[source.path], source, prepared)
     else:
-        prepared.urdf_file = str(Path(path).resolve())
-        prepared.urdf_text = source.texts[source.path]
-        for element in root.iter("mesh"):
-            filename = element.get("filename") or ""
-            if filename and _resolve(filename, source) is None:
-                _note_unresolved(prepared, filename)
+        _write_text_copy(source.texts[source.path], source, prepared)
     return prepared
 
 
@@ -606,7 +642,11 @@ def _visual_meshes(robot: Robot, source, prepared: Prepared) -> str | None:
             if not filename:
                 continue
             where = _where(shape.geometry.loc)
-            if _resolve(filename, source) is None:
+            resolved, why = _lookup(filename, source)
+            if resolved is None and why != NOT_FOUND:
+                return (f"{where}visual mesh '{filename}' of link '{link.name}': {why} (not "
+                        "given to PyBullet, which refuses a model without it)")
+            if resolved is None:
                 return (f"{where}visual mesh '{filename}' of link '{link.name}' not found "
                         "(PyBullet refuses the model; give packages with -P NAME=DIR)")
             suffix = Path(filename).suffix.lower()
@@ -628,4 +668,6 @@ def describe_location(prepared: Prepared, message: str) -> str:
             return f"{loc.path}:{loc.line}"
         return loc.path if loc is not None else prepared.path
 
+    for name, written in prepared.not_read.items():  # a mesh not given: its name as written
+        message = message.replace(name, written)
     return re.sub(re.escape(prepared.temp_file) + r"(?::(\d+))?", replace, message)
