@@ -73,7 +73,7 @@ def text(robot) -> str:
 def diff_json(write, before: str, after: str) -> list[dict]:
     a = write(before, "a/robot.urdf")
     b = write(after, "b/robot.urdf")
-    result = run_urdftool("diff", a, b, "--format", "json", "--trusted")
+    result = run_urdftool("diff", a, b, "--format", "json", "--trusted", "--timeout", "120")
     assert result.code == 0, result.err
     import json
 

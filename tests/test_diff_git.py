@@ -15,6 +15,7 @@ import pytest
 from tests.conftest import run_urdftool
 
 pytestmark = pytest.mark.skipif(shutil.which("git") is None, reason="git is not installed")
+SLOW = ("--timeout", "120")  # the run budget on a loaded test machine (wall time)
 
 PACKAGE_XML = """<?xml version="1.0"?>
 <package format="3"><name>arm_description</name><version>0.1.0</version>
@@ -108,7 +109,7 @@ def repo(tmp_path, monkeypatch):
 
 
 def diff(*args: str) -> dict:
-    result = run_urdftool("diff", "--format", "json", "--trusted", *args)
+    result = run_urdftool("diff", *SLOW, "--format", "json", "--trusted", *args)
     assert result.code == 0, result.err
     return json.loads(result.out)
 
@@ -138,7 +139,7 @@ def test_formatting_and_refactoring_commits_change_nothing(repo):
     # a README change reads no robot
     commit(repo, {"README.md": "an arm, documented\n"}, "docs")
     assert diff("HEAD~1..HEAD")["robots"] == []
-    result = run_urdftool("diff", "--trusted", "--exit-code", f"{first}..HEAD")
+    result = run_urdftool("diff", *SLOW, "--trusted", "--exit-code", f"{first}..HEAD")
     assert result.code == 0, result.err
 
 
@@ -183,7 +184,7 @@ def test_each_kind_of_change_is_named_and_located(repo):
     assert changes(diff("HEAD~4..HEAD")) == {
         ("joint", "shoulder", "limit.upper"), ("link", "link_1", "renamed"),
         ("link", "base_link", "visual"), ("joint", "shoulder", "origin")}
-    assert run_urdftool("diff", "--trusted", "--exit-code", "HEAD~4..HEAD").code == 1
+    assert run_urdftool("diff", *SLOW, "--trusted", "--exit-code", "HEAD~4..HEAD").code == 1
 
 
 def test_working_tree_against_head_touches_neither_the_index_nor_the_files(repo):
@@ -207,7 +208,7 @@ def test_markdown_summary_folds_small_changes(repo):
     for value in ("0.014", "0.0002"):  # tiny inertia changes: < 1 %
         macro = macro.replace(f'ixx="{value}"', f'ixx="{float(value) * 1.001}"')
     commit(repo, {"urdf/arm_macro.xacro": macro.replace('effort="50"', 'effort="80"')}, "mixed")
-    result = run_urdftool("diff", "--format", "markdown", "--trusted", "HEAD~1..HEAD")
+    result = run_urdftool("diff", *SLOW, "--format", "markdown", "--trusted", "HEAD~1..HEAD")
     assert result.code == 0, result.err
     assert "- 2 inertias changed by < 1 %" in result.out
     assert "**joint shoulder** limit.effort" in result.out
@@ -223,7 +224,8 @@ def test_a_robot_that_no_longer_expands_is_an_error_with_its_reason(repo):
     assert robot["findings"]["introduced"]
 
 
-def test_a_file_argument_names_each_sides_own_file_and_both_sides_run_untrusted(repo):
+@pytest.mark.parametrize("mode", ["--trusted", pytest.param("--untrusted", marks=pytest.mark.slow)])
+def test_a_file_argument_names_each_sides_own_file_and_both_sides_run_untrusted(repo, mode):
     """``limits:=config/limits.yaml`` (a path of the repository) reads BASE's YAML at BASE and
     HEAD's at HEAD; under --untrusted both sides are read by the sandboxed reader with the
     same result."""
@@ -234,13 +236,13 @@ def test_a_file_argument_names_each_sides_own_file_and_both_sides_run_untrusted(
     commit(repo, {"urdf/arm.urdf.xacro": entry, "urdf/arm_macro.xacro": macro,
                   "config/other.yaml": LIMITS.replace("lower: -1.5", "lower: -1.0")}, "arg")
     commit(repo, {"config/other.yaml": LIMITS.replace("lower: -1.5", "lower: -0.5")}, "limits")
-    for mode in ("--trusted", "--untrusted"):
-        result = run_urdftool("diff", "--format", "json", mode, "HEAD~1..HEAD",
-                              "limits:=config/other.yaml")
-        assert result.code == 0, result.err
-        [robot] = json.loads(result.out)["robots"]
-        [change] = robot["changes"]
-        assert (change["aspect"], change["before"], change["after"]) == ("limit.lower", -1.0, -0.5)
+    result = run_urdftool("diff", *SLOW, "--format", "json", mode, "HEAD~1..HEAD",
+                          "limits:=config/other.yaml")
+    assert result.code == 0, result.err
+    robots = json.loads(result.out)["robots"]
+    assert len(robots) == 1, [(r["entry"], r["status"], r.get("reason")) for r in robots]
+    [change] = robots[0]["changes"]
+    assert (change["aspect"], change["before"], change["after"]) == ("limit.lower", -1.0, -0.5)
 
 
 def test_render_writes_before_and_after_with_the_changed_links_highlighted(repo, tmp_path):
@@ -251,7 +253,7 @@ def test_render_writes_before_and_after_with_the_changed_links_highlighted(repo,
     moved = MACRO.replace('<origin xyz="0 0 0.05" rpy="0 0 0"/>', '<origin xyz="0.15 0 0.05" rpy="0 0 0"/>')
     commit(repo, {"urdf/arm_macro.xacro": moved}, "moved")
     out = tmp_path / "pictures"
-    result = run_urdftool("diff", "--format", "markdown", "--trusted", "--render", out,
+    result = run_urdftool("diff", *SLOW, "--format", "markdown", "--trusted", "--render", out,
                           "HEAD~1..HEAD")
     assert result.code == 0, result.err
     before, after = sorted(out.glob("*-before.png")), sorted(out.glob("*-after.png"))
@@ -278,3 +280,22 @@ def test_render_writes_before_and_after_with_the_changed_links_highlighted(repo,
 
     # the upper arm and the tool (below the moved origin) are red, and they moved sideways
     assert abs(red_centre(after[0]) - red_centre(before[0])) > 10
+
+
+def test_configured_entries_each_compared_and_alike_variants_shown_once(repo):
+    """The configuration's entries (two argument sets of one file) are the robots compared;
+    a macro change that changes both alike is one markdown section naming both."""
+    entry = ENTRY.replace('<xacro:arm prefix=""/>',
+                          '<xacro:arg name="variant" default="a"/>\n  <xacro:arm prefix=""/>')
+    commit(repo, {"urdf/arm.urdf.xacro": entry, "urdftool.toml":
+                  'entries = [{ file = "urdf/arm.urdf.xacro", args = { variant = "a" } },\n'
+                  '           { file = "urdf/arm.urdf.xacro", args = { variant = "b" } }]\n'},
+           "variants")
+    commit(repo, {"urdf/arm_macro.xacro": MACRO.replace('velocity="2"', 'velocity="3"')}, "v")
+    data = diff("HEAD~1..HEAD")
+    assert [(r["args"], r["status"]) for r in data["robots"]] == [
+        ({"variant": "a"}, "changed"), ({"variant": "b"}, "changed")]
+    assert changes(data) == {("joint", "shoulder", "limit.velocity")}
+    result = run_urdftool("diff", *SLOW, "--format", "markdown", "--trusted", "HEAD~1..HEAD")
+    assert result.out.count("### ") == 1, result.out
+    assert "alike for variant:=a; variant:=b: changed" in result.out

@@ -143,10 +143,18 @@ def markdown(robots: list[RobotDiff], base: Side, head: Side,
     for robot in robots:
         out.append(f"| {_md(robot_title(robot))} | {robot.status} | {len(robot.changes)} | "
                    f"{len(robot.introduced)} | {len(robot.fixed)} |")
-    for robot in robots:
+    for robot, same in _grouped(robots, base, head):
         if robot.status == "unchanged" and not robot.introduced and not robot.fixed:
             continue
-        out += ["", f"### {_md(robot_title(robot))}: {robot.status}", ""]
+        title = robot_title(robot)
+        if same:  # variants the change changed alike: one section
+            varying = sorted({k for r in (robot, *same) for k, v in r.args.items()
+                              if any(o.args.get(k) != v for o in (robot, *same))})
+            common = {k: v for k, v in robot.args.items() if k not in varying}
+            title = clean(robot.entry + (f" ({_args_text(common)})" if common else "")) + \
+                ", alike for " + "; ".join(
+                    " ".join(f"{k}:={r.args.get(k, '')}" for k in varying) for r in (robot, *same))
+        out += ["", f"### {_md(title)}: {robot.status}", ""]
         if robot.reason:
             out += [_md(robot.reason), ""]
         if robot.entry in pictures or robot_title(robot) in pictures:
@@ -183,6 +191,26 @@ def markdown(robots: list[RobotDiff], base: Side, head: Side,
                 if len(found) > SHOWN:
                     out.append(f"- … and {len(found) - SHOWN} more")
     return "\n".join(out) + "\n"
+
+
+def _signature(robot: RobotDiff, base: Side, head: Side) -> tuple:
+    """What a robot's section shows, without its arguments: variants with the same one are
+    shown once."""
+    changes = tuple((c.element, c.name, c.aspect, repr(c.before), repr(c.after),
+                     located(c.loc, head.tree)[:2], located(c.base_loc, base.tree)[:2])
+                    for c in robot.changes)
+    findings = tuple((d.rule, relative(d.path, t), d.line, relative_text(d.message, t))
+                     for found, t in ((robot.introduced, head.tree), (robot.fixed, base.tree))
+                     for d in found)
+    return robot.entry, robot.status, robot.reason, changes, findings
+
+
+def _grouped(robots: list[RobotDiff], base: Side, head: Side) -> list[tuple]:
+    """(robot, the later robots with the same section) in order of first appearance."""
+    groups: dict[tuple, list[RobotDiff]] = {}
+    for robot in robots:
+        groups.setdefault(_signature(robot, base, head), []).append(robot)
+    return [(group[0], group[1:]) for group in groups.values()]
 
 
 def _code(text) -> str:
