@@ -403,10 +403,8 @@ class Comparison:
             self.add("link", name, "mass", mass_a, mass_b,
                      (ib.mass_loc or ib.loc) if ib else lb.loc,
                      (ia.mass_loc or ia.loc) if ia else la.loc,
-                     f"link '{name}' mass {_num(mass_a)} -> {_num(mass_b)} kg"
-                     + (f" ({_percent(rel)})" if rel is not None else ""),
-                     size=rel if rel is not None else 1.0,
-                     **({"relative_change": rel} if rel is not None else {}))
+                     f"link '{name}' mass {_num(mass_a)} -> {_num(mass_b)} kg" + _rel_text(rel),
+                     **_rel_fields(rel))
         com_a = ia.origin.xyz if ia is not None else None
         com_b = ib.origin.xyz if ib is not None else None
         if not same_vector(com_a, com_b) and not (com_a is None and com_b == (0.0, 0.0, 0.0)) \
@@ -429,9 +427,7 @@ class Comparison:
                      (ib.inertia_loc or ib.loc) if ib else lb.loc,
                      (ia.inertia_loc or ia.loc) if ia else la.loc,
                      f"link '{name}' inertia: principal moments {_vec(pa)} -> {_vec(pb)} kg·m²"
-                     + (f" ({_percent(rel)})" if rel is not None else ""),
-                     size=rel if rel is not None else 1.0,
-                     **({"relative_change": rel} if rel is not None else {}))
+                     + _rel_text(rel), **_rel_fields(rel))
         for role in ("visual", "collision"):
             self._shapes(role, la, lb)
 
@@ -737,6 +733,15 @@ def _dict(values: dict | None) -> str:
         return "none"
     return "{" + ", ".join(f"{k} {_num(v) if isinstance(v, float) else v}"
                            for k, v in values.items()) + "}"
+
+
+def _rel_text(rel: float | None) -> str:
+    return f" ({_percent(rel)})" if rel is not None else ""
+
+
+def _rel_fields(rel: float | None) -> dict:
+    """``size`` and ``relative_change`` of a change with a relative size (1 when unknown)."""
+    return {"size": 1.0} if rel is None else {"size": rel, "relative_change": rel}
 
 
 def _percent(rel: float) -> str:

@@ -239,24 +239,24 @@ def _findings_delta(base: Entry | None, head: Entry | None, base_tree: Side,
                     head_tree: Side) -> tuple[list, list]:
     """(introduced, fixed): findings of HEAD's check not at BASE and the reverse, matched by
     rule, file and message without its numbers (a finding whose value changed is the same)."""
+    return _only_in(head, head_tree, base, base_tree), _only_in(base, base_tree, head, head_tree)
+
+
+def _only_in(entry: Entry | None, side: Side, other: Entry | None, other_side: Side) -> list:
+    """The diagnostics of ``entry`` that ``other`` does not have (as many times as it has
+    fewer of them)."""
     from collections import Counter
 
-    before = Counter(_finding_key(d, base_tree) for d in (base.diagnostics if base else ()))
-    after = Counter(_finding_key(d, head_tree) for d in (head.diagnostics if head else ()))
-    introduced, fixed = [], []
-    left = after - before
-    for d in head.diagnostics if head else ():
-        key = _finding_key(d, head_tree)
+    mine = list(entry.diagnostics) if entry else []
+    left = Counter(_finding_key(d, side) for d in mine) - Counter(
+        _finding_key(d, other_side) for d in (other.diagnostics if other else ()))
+    found = []
+    for d in mine:
+        key = _finding_key(d, side)
         if left[key] > 0:
             left[key] -= 1
-            introduced.append(d)
-    gone = before - after
-    for d in base.diagnostics if base else ():
-        key = _finding_key(d, base_tree)
-        if gone[key] > 0:
-            gone[key] -= 1
-            fixed.append(d)
-    return introduced, fixed
+            found.append(d)
+    return found
 
 
 def _failure(entry: Entry) -> str | None:
