@@ -178,7 +178,7 @@ def test_hull_distance_box_and_cylinder():
 def test_mesh_extent_numpy_and_python_paths_give_the_same_floats(monkeypatch):
     """A placed hull is queried with Python loops (small, numpy not loaded) or numpy arrays:
     the same floats either way (support vertex, squared reach per axis, the hull-escape
-    distance), on random hulls with repeated extremes, scales, rotations, both up axes."""
+    distance), on random hulls with repeated extremes, scales, rotations."""
     import random
 
     from urdftool.physics import inertia as phys
@@ -191,8 +191,7 @@ def test_mesh_extent_numpy_and_python_paths_give_the_same_floats(monkeypatch):
                   for _ in range(count)]
         points += points[: count // 3]  # equal extremes: the first of equals is chosen
         flat = [x for p in points for x in p]
-        up = None if trial % 3 else meshes._UP_ROTATIONS[b"Y"]
-        info = meshes.MeshInfo("m.stl", flat=meshes.array("d", flat), up_rotation=up)
+        info = meshes.MeshInfo("m.stl", flat=meshes.array("d", flat))
         scale = tuple(rng.uniform(0.1, 2.0) for _ in range(3))
         rotation = phys.rpy_matrix(tuple(rng.uniform(-3, 3) for _ in range(3)))
         translation = tuple(rng.uniform(-1, 1) for _ in range(3))

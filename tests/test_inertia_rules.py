@@ -302,20 +302,33 @@ def test_unit_slip_grams_squared_metres(write):
     path = write(robot(link("a", m, inertia(i * 1000, i * 1000, i * 1000),
                             f'<box size="{a} {a} {a}"/>')))
     got = rules_of(findings(path))
-    assert ("inertia.unit-scale", "warning") in got
-    assert ("inertia.exceeds-geometry", "error") in got  # 1 kg x (0.0354 m)^2 = 0.00125
+    # one finding for the tensor: the slip, with the bound's severity (0.4167 kg·m² against
+    # 1 kg x (0.0354 m)^2 = 0.00125 kg·m²: impossible), and no exceeds-geometry beside it
+    assert got == [("inertia.unit-scale", "error")]
     (d,) = [d for d in findings(path) if d.rule == "inertia.unit-scale"]
     assert "1000x" in d.message and "g·m²" in d.message
 
 
-def test_unit_slip_mass_in_grams(write):
-    a = 0.05
-    i = box_i(1.0, a, a, a)[0]  # the inertia of the 1 kg part, mass written as 1000
-    path = write(robot(link("a", 1000.0, inertia(i, i, i), f'<box size="{a} {a} {a}"/>')))
-    d = {x.rule: x for x in findings(path)}
-    assert "mass in grams" in d["inertia.unit-scale"].message
-    assert "0.001x" in d["inertia.unit-scale"].message
-    assert "inertia.implausible-density" in d  # 8e6 kg/m^3
+def test_unit_slip_needs_every_axis_alike(write):
+    """Ratios that differ per axis by 2.8x (600, 600, 1700) are no unit slip (a slip scales
+    every axis alike): the tensor is only too large for the geometry."""
+    m, a, b, c = 1.0, 0.05, 0.05, 0.1
+    ixx, iyy, izz = box_i(m, a, b, c)
+    path = write(robot(link("a", m, inertia(ixx * 600, iyy * 600, izz * 1700),
+                            f'<box size="{a} {b} {c}"/>')))
+    assert [r for r, _ in rules_of(findings(path))] == ["inertia.exceeds-geometry"]
+
+
+def test_computed_round_placeholder_is_not_a_unit_slip(write):
+    """ixx = iyy = izz = ${0.2*0.1} (0.020000000000000004: a round value typed in by the author,
+    computed by xacro) on a 50 g part 3 cm across: 2.7e3x the geometry on every axis, but a
+    placeholder; one finding, exceeds-geometry, at error."""
+    value = 0.2 * 0.1
+    assert value != 0.02
+    m, a = 0.05, 0.03
+    assert 1000 / 10 ** 0.5 < value / box_i(m, a, a, a)[0] < 1000 * 10 ** 0.5
+    path = write(robot(link("a", m, inertia(value, value, value), f'<box size="{a} {a} {a}"/>')))
+    assert rules_of(findings(path)) == [("inertia.exceeds-geometry", "error")]
 
 
 def test_placeholder_is_not_called_a_unit_slip(write):
@@ -559,3 +572,21 @@ def test_missing_visual_mesh_is_not_checked_within_twice_the_collision_bound(wri
     path = write(WHEEL.format(m=m, r=r, i=0.75 * m * r * r, izz=1.5 * m * r * r,
                               visual='<mesh filename="meshes/wheel_not_there.dae"/>'))
     assert [d for d in findings(path) if d.rule == "inertia.exceeds-geometry"] == []
+
+
+def test_gazebo_judges_a_massless_link_with_its_fixed_children_lumped(write):
+    """issue 29: Gazebo's URDF reader lumps fixed children into their parent before it drops
+    massless moving links (sdformat's ReduceFixedJoints runs first): a massless link whose fixed
+    child carries mass is kept, unless the fixed joint keeps its child apart."""
+    parts = [link("base", 1.0, inertia(0.01, 0.01, 0.01)), joint("j", "base", "arm"),
+             link("arm", 0.0, inertia(0, 0, 0)), joint("mount", "arm", "motor", "fixed"),
+             link("motor", 0.5, inertia(1e-4, 1e-4, 1e-4)), "<gazebo><static>false</static></gazebo>"]
+    assert findings(write(robot(*parts))) == []
+    kept = '<gazebo reference="mount"><preserveFixedJoint>true</preserveFixedJoint></gazebo>'
+    (d,) = findings(write(robot(*parts, kept), "kept.urdf"))
+    assert d.rule == "inertia.massless-moving-link" and "drops it" in d.message
+    # no <inertial> at all: PyBullet's 1 kg stays true, Gazebo's drop does not
+    bare = [p if not p.startswith('<link name="arm"') else '<link name="arm"/>' for p in parts]
+    (d,) = findings(write(robot(*bare), "bare.urdf"))
+    assert "PyBullet gives it 1 kg" in d.message and "drops" not in d.message
+    assert "lumps what is fixed to it (0.5 kg) into it" in d.message

@@ -3,9 +3,11 @@ the closed-form box; the once-per-run mesh cache; PyBullet as a second opinion o
 
 from __future__ import annotations
 
+import itertools
 import json
-import subprocess
+import re
 import shlex
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -346,8 +348,8 @@ def test_corpus_mass_properties_match_trimesh(suffix, monkeypatch):
 
     checked = {"closed": 0, "hull": 0}
     for path in corpus_meshes(suffix, 40):
-        if meshes._collada_frame(path) != (1.0, None):
-            continue  # trimesh ignores COLLADA units and up axes
+        if meshes._collada_unit(path) != 1.0:
+            continue  # trimesh ignores COLLADA units
         info = meshes._load(path, need_volume=True)
         if not info.ok or info.solid is None:
             continue
@@ -574,3 +576,87 @@ def test_a_slip_in_a_mesh_package_name_is_fixed(tmp_path):
     (found,) = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
                 if d["rule"] == "mesh.unresolved"]
     assert "did you mean" not in found["hint"] and not found.get("fix")
+
+def _collada(tmp_path, name, mesh, asset="", edit=None):
+    """``mesh`` written as COLLADA by trimesh, with ``asset`` added to its <asset> and ``edit``
+    (a function of the text) applied."""
+    text = trimesh.exchange.dae.export_collada(mesh).decode()
+    text = text.replace("<asset>", "<asset>" + asset, 1)
+    (tmp_path / name).write_text(edit(text) if edit else text)
+    return tmp_path / name
+
+
+def test_collada_up_axis_is_not_applied_as_the_ros_tools_read_it(tmp_path, write):
+    """issue 29: a Y_UP mesh is drawn by RViz, MoveIt and Gazebo classic in its own coordinates
+    (they drop assimp's root rotation, or never apply it): a gripper finger 0.2 m long along
+    the file's z with its COM written 0.1 m along y lies 0.09 m outside it (the union of both
+    readings said nothing, and no inertia was derived from the mesh)."""
+    finger = trimesh.creation.box(extents=(0.02, 0.02, 0.2))
+    finger.apply_translation((0, 0, 0.1))
+    _collada(tmp_path, "finger.dae", finger, "<up_axis>Y_UP</up_axis>")
+    mass, (ixx, iyy, izz) = 0.1, map(float, np.diag(box_formula(0.1, 0.02, 0.02, 0.2)))
+    text = (f'<robot name="r"><link name="finger"><inertial><origin xyz="0 0.1 0"/>'
+            f'<mass value="{mass}"/><inertia ixx="{ixx!r}" ixy="0" ixz="0" iyy="{iyy!r}" iyz="0" '
+            f'izz="{izz!r}"/></inertial><collision><geometry><mesh filename="finger.dae"/>'
+            '</geometry></collision></link></robot>')
+    path = write(text)
+    _, result = analyse(path)
+    a = result["finger"]
+    np.testing.assert_allclose(a.shapes[0].mesh.lower, (-0.01, -0.01, 0.0), atol=1e-8)
+    np.testing.assert_allclose(a.shapes[0].mesh.upper, (0.01, 0.01, 0.2), atol=1e-8)
+    assert a.derived_from == "collision"
+    np.testing.assert_allclose(a.solid.centroid, (0, 0, 0.1), rtol=1e-7)  # float32
+    (d,) = [d for d in diagnostics(path) if d.rule == "inertia.com-outside-geometry"]
+    assert "0.09 m outside" in d.message
+
+
+def test_collada_that_assimp_reads_is_read(tmp_path, write):
+    """issue 29: white space before <?xml, and an exporter's <node id="<STL_BINARY>"> (a '<'
+    inside an attribute, which a strict XML parser refuses), are read as assimp reads them:
+    the same box as the clean file."""
+    box = trimesh.creation.box(extents=(0.2, 0.1, 0.05))
+    _collada(tmp_path, "lead.dae", box, edit=lambda t: "\n  \n" + t)
+    _collada(tmp_path, "attr.dae", box,
+             edit=lambda t: re.sub(r'<node id="[^"]*"', '<node id="<STL_BINARY>"', t, count=1))
+    with pytest.raises(Exception):  # noqa: B017 - what pycollada does with it as written
+        trimesh.load(str(tmp_path / "attr.dae"), force="mesh")
+    for name in ("lead.dae", "attr.dae"):
+        info = meshes._load(tmp_path / name, need_volume=True)
+        assert info.ok, info.error
+        np.testing.assert_allclose(info.extents, (0.2, 0.1, 0.05), rtol=1e-7)  # float32
+        assert info.solid.volume == pytest.approx(0.2 * 0.1 * 0.05, rel=1e-6)
+
+
+def test_collada_refused_by_pycollada_names_it_and_is_a_warning(tmp_path, write):
+    """A COLLADA document that is XML but that pycollada refuses may well be displayed by RViz
+    and Gazebo (other readers): a warning naming the reader, the exception named once."""
+    box = trimesh.creation.box(extents=(0.2, 0.1, 0.05))
+    _collada(tmp_path, "odd.dae", box,
+             edit=lambda t: t.replace('<float_array', '<float_array count="x"', 1))
+    garbage = tmp_path / "garbage.dae"
+    garbage.write_bytes(b"\x00\x01 not xml at all")
+    path = write('<robot name="r"><link name="a"><visual><geometry><mesh filename="odd.dae"/>'
+                 '</geometry></visual><visual><geometry><mesh filename="garbage.dae"/></geometry>'
+                 '</visual></link></robot>')
+    got = {d.message.split(" mesh ")[1].split()[0]: d for d in diagnostics(path, ("mesh",))
+           if d.rule == "mesh.unreadable"}
+    assert got["odd.dae"].severity == "warning" and got["garbage.dae"].severity == "error"
+    for d in got.values():
+        assert "pycollada (trimesh's COLLADA reader) refused it" in d.message
+        words = d.message.replace(":", " ").split()
+        assert not any(a == b for a, b in itertools.pairwise(words)), d.message
+
+
+def test_library_exceptions_name_their_type_once():
+    """pycollada's exceptions print their class name themselves ("DaeMalformedError: ...");
+    the message names it once, and names it when the library did not."""
+    from urdftool.errors import exception_text
+
+    class DaeMalformedError(Exception):
+        def __str__(self):
+            return f"DaeMalformedError: {self.args[0]}"
+
+    assert exception_text(DaeMalformedError("XML Parsing Error")) == \
+        "DaeMalformedError: XML Parsing Error"
+    assert exception_text(ValueError("bad\nsecond line")) == "ValueError: bad"
+    assert exception_text(KeyError()) == "KeyError"

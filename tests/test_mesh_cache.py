@@ -180,7 +180,7 @@ def test_an_unusable_cache_directory_falls_back_to_loading(tmp_path, monkeypatch
     assert check_json(path) == (expected, 1)
     # a directory entry where the entry should be: reads and writes fail, loading does not
     monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path / "cache"))
-    entry = cache._entry("mesh", cache.stamp((tmp_path / "box.stl").resolve()))
+    entry = cache._entry("mesh", cache.stamp((tmp_path / "box.stl").resolve(), meshes.READING))
     (entry / "sub").mkdir(parents=True)
     assert check_json(path) == (expected, 1)
     assert check_json(path) == (expected, 1)
@@ -201,7 +201,7 @@ def test_no_cache_reads_and_writes_nothing(tmp_path):
     real, _ = check_json(path)
     # a planted entry (valid, but twice the size): the cache is read when on...
     stl = (tmp_path / "box.stl").resolve()
-    key = cache.stamp(stl)
+    key = cache.stamp(stl, meshes.READING)
     header, hull = meshes._encode(meshes._load(stl, need_volume=True))
     header["lower"] = [2 * x for x in header["lower"]]
     header["upper"] = [2 * x for x in header["upper"]]
@@ -239,7 +239,7 @@ def test_an_entry_without_volume_is_completed_when_the_volume_is_needed(tmp_path
     collision = tmp_path / "collision.urdf"
     collision.write_text(f'<robot name="r"><link name="a">{inertial}<collision>{mesh}'
                          "</collision></link></robot>")
-    key = cache.stamp((tmp_path / "box.stl").resolve())
+    key = cache.stamp((tmp_path / "box.stl").resolve(), meshes.READING)
     assert check_json(visual)[1] == 1
     stored = meshes._decode(Path("box.stl"), cache.read("mesh", key))
     assert not stored.has_volume and stored.solid is None
@@ -339,3 +339,17 @@ def test_a_mesh_changed_between_runs_of_one_process_is_read_again(tmp_path, monk
     assert bound_findings() == ["inertia.exceeds-geometry"]  # 0.05 kg m^2 in a 10 cm cube
     trimesh.creation.box(extents=(1.0, 1.0, 1.0)).export(mesh)
     assert bound_findings() == []  # the same process, the new 1 m cube: possible
+
+
+def test_an_entry_read_the_old_way_is_read_again(tmp_path, monkeypatch):
+    """A change in how meshes are read (``meshes.READING``: issue 29 stopped turning COLLADA
+    up axes) makes every stored summary stale, whatever the file's time or content: a new
+    mtime with the same content (the SHA-256 path) does not bring the old summary back."""
+    path = box_robot(tmp_path)
+    first, loads = check_json(path)
+    assert loads == 1 and check_json(path) == (first, 0)
+    monkeypatch.setattr(meshes, "READING", meshes.READING + 1)
+    stat = os.stat(tmp_path / "box.stl")
+    os.utime(tmp_path / "box.stl", ns=(stat.st_atime_ns, stat.st_mtime_ns + 10**9))
+    assert check_json(path) == (first, 1)
+    assert check_json(path) == (first, 0)  # stored again, the new way

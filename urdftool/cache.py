@@ -50,18 +50,23 @@ def directory() -> Path:
     return base / "urdftool"
 
 
-def stamp(path: Path) -> dict | None:
+def stamp(path: Path, reading: int = 0) -> dict | None:
     """The key of an entry derived from the file at ``path`` (a resolved path), or None when
     the cache is off or the file cannot be stat'ed. Take it before reading the file: a file
-    changed meanwhile is then stored under its old stamp, never the reverse."""
+    changed meanwhile is then stored under its old stamp, never the reverse. ``reading``: the
+    version of how the caller derives its entry (``meshes.READING``): an entry derived the old
+    way is never read again, whatever the file's content."""
     if not ENABLED:
         return None
     try:
         st = os.stat(path)
     except OSError:
         return None
-    return {"path": str(path), "size": st.st_size, "mtime_ns": st.st_mtime_ns,
-            "format": FORMAT, "version": __version__}
+    key = {"path": str(path), "size": st.st_size, "mtime_ns": st.st_mtime_ns,
+           "format": FORMAT, "version": __version__}
+    if reading:
+        key["reading"] = reading
+    return key
 
 
 def _entry(kind: str, key: dict) -> Path:
@@ -119,7 +124,8 @@ def _same_content(entry: dict, key: dict) -> bool:
     stored = entry.get("key")
     if not isinstance(stored, dict) or not isinstance(entry.get("sha256"), str):
         return False
-    if any(stored.get(name) != key[name] for name in ("path", "size", "format", "version")):
+    if any(stored.get(name) != key.get(name)
+           for name in ("path", "size", "format", "version", "reading")):
         return False
     return _digest(key["path"]) == entry["sha256"]
 

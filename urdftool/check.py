@@ -19,7 +19,7 @@ from pathlib import Path
 from urdftool import budget
 from urdftool import rules as rules_module
 from urdftool.config import Config, suppressions
-from urdftool.errors import NothingToCheck, ToolError
+from urdftool.errors import NothingToCheck, ToolError, exception_text
 from urdftool.findings import Loc
 from urdftool.loader import load, run_roots
 from urdftool.model import build_robot
@@ -114,7 +114,7 @@ def check_once(path: Path | str, options: CheckOptions, load_options=None):
         except Exception as exc:  # a rule must never take the whole run down
             if options.debug:
                 raise
-            findings = [Finding(f"internal error in rule {rule.id}: {type(exc).__name__}: {exc}",
+            findings = [Finding(f"internal error in rule {rule.id}: {exception_text(exc)}",
                                 None, severity="warning")]
         diagnostics.extend(_diagnostic(rule, severity, f, source.path) for f in findings)
     if any(rule in REFUSING_RULES for rule, _ in source.problems):
@@ -627,7 +627,7 @@ def _worker(path, options: CheckOptions) -> tuple[bool, object]:
         try:
             pickle.dumps(exc)
         except Exception:  # noqa: BLE001 - an exception that cannot travel: its text does
-            exc = RuntimeError(f"{type(exc).__name__}: {exc}")
+            exc = RuntimeError(exception_text(exc))
         return False, exc
 
 

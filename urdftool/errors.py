@@ -9,6 +9,17 @@ class NothingToCheck(ToolError):
     """No robot file among the paths given (``check`` says so and exits 0)."""
 
 
+def exception_text(exc: BaseException) -> str:
+    """``Type: message`` of an exception from a library, one line, its type named once: some
+    libraries' messages already start with it (pycollada's ``DaeMalformedError.__str__`` gives
+    "DaeMalformedError: ..."), which the plain f-string doubled."""
+    name = type(exc).__name__
+    lines = [line.strip() for line in str(exc).strip().splitlines() if line.strip()]
+    if not lines:
+        return name
+    return lines[0] if lines[0].startswith(name) else f"{name}: {lines[0]}"
+
+
 def require(module: str, extra: str):
     """Import an optional heavy dependency or raise a ToolError naming the pip extra."""
     import importlib

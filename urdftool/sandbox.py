@@ -439,6 +439,7 @@ def source_to_json(source) -> dict:
             "missing": {path: [_loc_json(loc) for loc in where]
                         for path, where in source.missing.items()},
             "files_read": files_read, "lost": list(source.lost),
+            "defaults": source.defaults,
             "problems": [[rule, f.message, _loc_json(f.loc), f.hint, f.severity,
                           [list(e) for e in f.edits]] for rule, f in source.problems]}
 
@@ -492,6 +493,8 @@ def source_from_json(data, path: str):
         for read in data.get("files_read", ()):
             files.note(text(read, False))
         source.lost = tuple(text(n, False) for n in data.get("lost", ()))
+        source.defaults = {text(n, False): static is True
+                           for n, static in dict(data.get("defaults", {})).items()}
         for rule, message, where, hint, severity, edits in data["problems"]:
             source.add(text(rule, False), Finding(text(message, False), loc(where), text(hint),
                                                   text(severity), tuple(map(edit, edits))))

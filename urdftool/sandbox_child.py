@@ -383,7 +383,9 @@ def _answer(request) -> dict:
     except (LimitExceeded, RecursionError) as exc:
         return {"limit": str(exc) or type(exc).__name__}
     except Exception as exc:  # noqa: BLE001 - sent to the parent as one line
-        return {"error": f"{type(exc).__name__}: {exc}"}
+        from urdftool.errors import exception_text
+
+        return {"error": exception_text(exc)}
 
 
 def _write(out, payload: dict) -> None:

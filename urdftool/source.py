@@ -73,8 +73,8 @@ class LoadOptions:
 class Source:
     """One input file, read and (for xacro) expanded."""
 
-    __slots__ = ("_xpaths", "kind", "lines", "locs", "lost", "missing", "path", "problems",
-                 "reads", "resolver", "root", "texts", "unread")
+    __slots__ = ("_xpaths", "defaults", "kind", "lines", "locs", "lost", "missing", "path",
+                 "problems", "reads", "resolver", "root", "texts", "unread")
 
     def __init__(self, path: str, kind: str, root: etree._Element | None = None,
                  problems: list[tuple[str, Finding]] | None = None,
@@ -96,6 +96,9 @@ class Source:
         # the joints left out with it: findings that name them only repeat the include's
         # (``urdftool.rules.lost``)
         self.lost: tuple[str, ...] = ()
+        # SDF: URDF link name -> whether its model is static, for each link without <inertial>
+        # (the conversion writes SDFormat's default 1 kg, 1 kg·m²: not the author's values)
+        self.defaults: dict[str, bool] = {}
         self.resolver = resolver
         self.locs = locs if locs is not None else {}  # element -> Loc (xacro, SDF)
         self.lines: str | None = None  # plain URDF: its text (positions from the parser)

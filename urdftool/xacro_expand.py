@@ -28,6 +28,7 @@ from pathlib import Path
 
 from lxml import etree
 
+from urdftool.errors import exception_text
 from urdftool.findings import Finding, Loc
 from urdftool.source import (
     LOC_ATTR,
@@ -778,7 +779,7 @@ def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Polic
                 message = str(exc).strip() or type(exc).__name__
                 work.add("xacro.error", Finding(f"xacro: {message}", loc))
             elif not work.problems:
-                work.add("xacro.error", Finding(f"xacro: {type(exc).__name__}: {exc}", loc))
+                work.add("xacro.error", Finding(f"xacro: {exception_text(exc)}", loc))
     _report_hidden(work, policy.hidden, getattr(options, "in_sandbox", False))
     return Expansion(expanded, list(files.paths), [_one_line(rule, f) for rule, f in work.problems],
                      work.texts, sorted(work.reads), work.missing)

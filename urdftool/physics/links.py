@@ -30,6 +30,7 @@ PERMUTED_MATCH = 0.1  # relative tensor error of the best permutation
 PERMUTED_MISMATCH = 0.3  # relative tensor error as written
 UNIT_SLIPS = (1e3, 1e6, 1e-3, 1e-6)
 UNIT_BAND = 10 ** 0.5  # "near 1e3": within a factor sqrt(10)
+UNIT_SPREAD = 2.0  # a unit slip scales every axis alike: their ratios within this factor
 MISMATCH_FACTOR = 10.0
 DENSITY_LOW, DENSITY_HIGH = 10.0, 25000.0  # kg/m^3: lighter than foam, denser than osmium
 COM_TOLERANCE = 0.25  # fraction of the body's width (along the way out) the COM may lie outside
@@ -55,7 +56,6 @@ class ShapeInfo:
     problem: str | None = None  # why the shape cannot be used
     path: Path | None = None  # mesh: the resolved file
     mesh: object = None  # mesh: its MeshInfo
-    ambiguous: bool = False  # orientation not known for sure (COLLADA Y_UP/X_UP)
 
     @property
     def usable(self) -> bool:
@@ -219,7 +219,6 @@ def _mesh_shape(files: _MeshFiles, info: ShapeInfo, origin, need_volume: bool,
         info.problem = NO_LIBRARY if meshes.missing_library(mesh) else \
             f"cannot load {path.name}: {mesh.error}"
         return
-    info.ambiguous = mesh.up_rotation is not None
     # placed once per process for each (summary, scale, origin); the summary is kept in the
     # value, so that its id in the key cannot be reused by another object
     key = (id(mesh), repr((scale, origin)))
@@ -260,7 +259,7 @@ def analyse_link(robot, link, moving: bool = False,
     # _shape_info), the inertial's values and ``moving`` only: a link met before (the same link
     # in another variant of a robot) takes that analysis with its own link and shapes
     key = (moving, repr(inertial[:8]) if inertial is not None else None,
-           tuple((s.shape.role, id(s.solid), id(s.extent), s.ambiguous) for s in a.shapes))
+           tuple((s.shape.role, id(s.solid), id(s.extent)) for s in a.shapes))
     known = _LINKS.get(key)
     if known is not None:
         return _rebound(known, link, a.shapes)
@@ -276,7 +275,7 @@ def analyse_link(robot, link, moving: bool = False,
         infos = [s for s in a.shapes if s.shape.role == role]
         if infos and all(s.solid is not None for s in infos):
             a.volumes[role] = sum(s.solid.volume for s in infos)  # type: ignore[union-attr]
-            if a.derived_from is None and not any(s.ambiguous for s in infos):
+            if a.derived_from is None:
                 a.derived_from = role
                 a.solid = phys.combine([s.solid for s in infos])  # type: ignore[misc]
     _judge(a)
@@ -381,16 +380,19 @@ def _judge(a: LinkAnalysis) -> None:
     if min(g_diag) <= 0:
         return
     a.ratios = tuple(d / g for d, g in zip(d_diag, g_diag))  # type: ignore[assignment]
-    # unit slip: every moment off by the same power of 1000
-    ratio = phys.trace(a.declared) / phys.trace(a.derived)
+    # unit slip: every moment the geometry's times one power of 1000, alike on every axis, on a
+    # tensor that was computed (a typed-in round placeholder is no unit slip: the bound says it)
     positive = [r for r in a.ratios if r > 0]
-    uniform = len(positive) == 3 and max(positive) / min(positive) < 3.0
-    for slip in UNIT_SLIPS:
-        if uniform and not is_placeholder(a.declared) and slip / UNIT_BAND <= ratio <= slip * UNIT_BAND and (
-                slip < 1 or "exceeds-geometry" in a.findings):
-            a.unit_slip = slip
-            a.findings["unit-scale"] = "warning"
-            break
+    if len(positive) == 3 and max(positive) / min(positive) <= UNIT_SPREAD \
+            and not is_round_placeholder(a.declared):
+        ratio = math.exp(sum(math.log(r) for r in positive) / 3)  # the factor, all axes alike
+        for slip in UNIT_SLIPS:
+            if slip / UNIT_BAND <= ratio <= slip * UNIT_BAND and (
+                    slip < 1 or "exceeds-geometry" in a.findings):
+                a.unit_slip = slip
+                # one finding for the tensor: the slip, as grave as the bound it breaks
+                a.findings["unit-scale"] = a.findings.pop("exceeds-geometry", "warning")
+                break
     # permuted axes
     reference = phys.frobenius(a.derived)
     errors = {}
@@ -435,6 +437,19 @@ def is_placeholder(tensor: Mat3) -> bool:
         return False
     exponent = math.log10(d[0])
     return abs(exponent - round(exponent)) < 1e-9
+
+
+def is_round_placeholder(tensor: Mat3) -> bool:
+    """ixx = iyy = izz, no products, and a round number (at most two significant digits, to
+    within rounding: ``${0.1*0.1}`` is 0.010000000000000002): a value typed in, not computed
+    (a CAD export with a unit slip has the part's own, unequal, many-digit moments)."""
+    d = phys.diag(tensor)
+    if not d[0] > 0 or any(abs(x - d[0]) > 1e-9 * d[0] for x in d):
+        return False
+    if any(abs(tensor[i][j]) > 1e-12 * d[0] for i in range(3) for j in range(3) if i != j):
+        return False
+    rounded = float(f"{d[0]:.2g}")
+    return abs(rounded - d[0]) <= 1e-9 * d[0]
 
 
 _last: tuple[object, dict[int, LinkAnalysis]] | None = None

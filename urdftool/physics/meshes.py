@@ -20,16 +20,16 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
+from urdftool.errors import exception_text
 from urdftool.packages import is_file, resolved
-from urdftool.physics.inertia import Extent, Mat3, Solid, Vec3, mat_vec, sub
+from urdftool.physics.inertia import Extent, Mat3, Solid, Vec3, sub
 
 # formats trimesh reads (after pycollada for DAE); others (Ogre .mesh, VTK...) are not checked
 LOADABLE = {".stl", ".obj", ".dae", ".ply", ".off", ".glb", ".gltf", ".3mf", ".zae"}
 _UNIT_RE = re.compile(rb"<unit\b[^<>]*\bmeter\s*=\s*[\"']([^\"'<]+)[\"']")
-_UP_RE = re.compile(rb"<up_axis>\s*([XYZ])_UP\s*</up_axis>")
-# COLLADA up axis -> the rotation that makes it z (what assimp-based ROS tools do)
-_UP_ROTATIONS = {b"Y": ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0)),
-                 b"X": ((0.0, 0.0, -1.0), (0.0, 1.0, 0.0), (1.0, 0.0, 0.0))}
+# How a file's coordinates are read; part of every cache entry's key (``cache.stamp``): bump it
+# when the reading changes (2: a COLLADA <up_axis> is no longer turned, see ``_collada_unit``)
+READING = 2
 
 LOADS = 0  # how many files were actually read (cache misses)
 # parses a file (path, need_volume) -> MeshInfo instead of this process: set by
@@ -87,9 +87,6 @@ class MeshInfo:
     lower: Vec3 = (0.0, 0.0, 0.0)
     upper: Vec3 = (0.0, 0.0, 0.0)
     faces: int = 0
-    # a COLLADA up axis other than Z: tools disagree (rviz and DART keep the file's
-    # coordinates, assimp's default and others turn the up axis to z), so both are possible
-    up_rotation: Mat3 | None = None
     has_volume: bool = False  # the volume fields (solid, watertight, used_hull) are computed
 
     @property
@@ -210,7 +207,7 @@ def _known(path: str | None, need_volume: bool, depth: int = 0) -> MeshInfo | No
     if info is None and Path(path).suffix.lower() in LOADABLE:
         from urdftool import cache
 
-        key = cache.stamp(Path(path))
+        key = cache.stamp(Path(path), READING)
         info = _decode(Path(path), cache.read("mesh", key)) if key is not None else None
     if info is not None and (info.has_volume or not need_volume or not info.ok) and \
             not missing_library(info) and not (info.error or "").startswith(TRANSIENT):
@@ -236,7 +233,7 @@ def _stored_or_load(path: Path, need_volume: bool) -> MeshInfo:
     from urdftool import cache, files
 
     files.note(path)  # the run's "files read": no output may overwrite a mesh it read
-    key = cache.stamp(path) if path.suffix.lower() in LOADABLE else None
+    key = cache.stamp(path, READING) if path.suffix.lower() in LOADABLE else None
     if key is None:
         return _load(path, need_volume)
     stored = _decode(path, cache.read("mesh", key))
@@ -250,12 +247,10 @@ def _stored_or_load(path: Path, need_volume: bool) -> MeshInfo:
 
 def _encode(info: MeshInfo) -> tuple[dict, object]:
     """(JSON header, the hull vertices' coordinates) of a summary, for ``urdftool.cache``."""
-    up = next((axis.decode() for axis, rotation in _UP_ROTATIONS.items()
-               if rotation == info.up_rotation), None)
     solid = None if info.solid is None else [
         info.solid.volume, *info.solid.centroid, *(x for row in info.solid.second for x in row)]
     header = {"error": info.error, "faces": info.faces, "lower": info.lower,
-              "upper": info.upper, "up": up, "has_volume": info.has_volume,
+              "upper": info.upper, "has_volume": info.has_volume,
               "watertight": info.watertight, "used_hull": info.used_hull, "solid": solid}
     return header, info.flat
 
@@ -271,10 +266,10 @@ def _decode(path: Path, stored) -> MeshInfo | None:
     if stored is None:
         return None
     header, values = stored
-    error, solid, up = header.get("error"), header.get("solid"), header.get("up")
+    error, solid = header.get("error"), header.get("solid")
     flags = [header.get(k) for k in ("has_volume", "watertight", "used_hull")]
     if not (error is None or isinstance(error, str)) or type(header.get("faces")) is not int \
-            or not all(type(f) is bool for f in flags) or (up is not None and up not in ("X", "Y")) \
+            or not all(type(f) is bool for f in flags) \
             or not _floats(header.get("lower"), 3) or not _floats(header.get("upper"), 3) \
             or not (solid is None or _floats(solid, 13)):
         return None
@@ -286,29 +281,33 @@ def _decode(path: Path, stored) -> MeshInfo | None:
     return MeshInfo(str(path), flat=values if type(values) is array else array("d", values),
                     lower=tuple(header["lower"]),
                     upper=tuple(header["upper"]), faces=header["faces"],
-                    up_rotation=_UP_ROTATIONS[up.encode()] if up else None,
                     has_volume=flags[0], watertight=flags[1], used_hull=flags[2],
                     solid=Solid(solid[0], tuple(solid[1:4]), second) if solid else None)
 
 
-def _collada_frame(path: Path) -> tuple[float, Mat3 | None]:
-    """COLLADA files may declare their unit (<unit meter="0.001"/>) and up axis (Y_UP): ROS
-    tools (rviz, Gazebo, assimp-based loaders) honour both; trimesh does not."""
+def _collada_unit(path: Path) -> float:
+    """A COLLADA file's ``<unit meter>`` (1 when it has none): every ROS tool scales by it.
+
+    Its ``<up_axis>`` is NOT applied, as the ROS tools read the file: assimp turns a non-Y-up
+    scene in its root node's transform, which RViz drops (rviz ``src/rviz/mesh_loader.cpp``,
+    ``buildMesh``: "don't rotate to y-up orientation", it keeps the root's scale) and MoveIt's
+    geometric_shapes resets (``src/mesh_operations.cpp``, ``createMeshFromBinary``: the root
+    transform set to identity before ``aiProcess_OptimizeGraph``); Gazebo classic's own
+    ``common/ColladaLoader.cc`` reads ``<unit meter>`` and never ``<up_axis>``. So a Y_UP file is
+    drawn, collided and measured in its own coordinates, and so is it checked here."""
     if path.suffix.lower() != ".dae":
-        return 1.0, None
+        return 1.0
     try:
         with path.open("rb") as handle:
             head = handle.read(16384)
     except OSError:
-        return 1.0, None
+        return 1.0
     match = _UNIT_RE.search(head)
     try:
         unit = float(match.group(1)) if match else 1.0
     except ValueError:
         unit = 1.0
-    up = _UP_RE.search(head)
-    rotation = _UP_ROTATIONS.get(up.group(1)) if up else None
-    return (unit if unit > 0 else 1.0), rotation
+    return unit if unit > 0 and math.isfinite(unit) else 1.0
 
 
 def _load(path: Path, need_volume: bool) -> MeshInfo:
@@ -334,8 +333,10 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
                 triangles = _read(path)
         except ImportError as exc:  # an optional library is missing: not the file's fault
             return _missing(path, exc)
+        except Refused as exc:
+            return MeshInfo(str(path), error=str(exc))
         except Exception as exc:  # noqa: BLE001 - any parser failure is a finding, not a crash
-            return MeshInfo(str(path), error=_one_line(f"{type(exc).__name__}: {exc}"))
+            return MeshInfo(str(path), error=exception_text(exc))
         if triangles is None:
             return MeshInfo(str(path), error="no triangles in it" + log.cause())
         if len(triangles[1]) > MAX_TRIANGLES:
@@ -436,21 +437,89 @@ def _read(path: Path):
         stl = _binary_stl(path)
         if stl is not None:
             return (*stl, None)
+    data = path.read_bytes()
+    file_type = path.suffix.lower().lstrip(".")
+    if file_type == "dae":
+        data = _without_lead(data)
+    try:
+        mesh = _trimesh_load(data, file_type)
+    except ImportError:
+        raise
+    except Exception as exc:
+        recovered = _recovered_xml(data) if file_type == "dae" else None
+        if recovered is None:
+            raise Refused(_reader(file_type), exc) from exc
+        data = recovered  # what assimp's lenient XML reader reads
+        try:
+            mesh = _trimesh_load(data, file_type)
+        except ImportError:
+            raise
+        except Exception as again:
+            raise Refused(_reader(file_type), again, lenient=True) from again
+    if _empty(mesh) and file_type == "dae":
+        mesh = _load_collada_geometry_only(data)
+    return None if _empty(mesh) else (mesh.vertices, mesh.faces, mesh)
+
+
+def _trimesh_load(data: bytes, file_type: str):
     import io
 
     import trimesh
 
-    data = path.read_bytes()
-    file_type = path.suffix.lower().lstrip(".")
     try:
-        mesh = trimesh.load(io.BytesIO(data), file_type=file_type, force="mesh", process=False,
+        return trimesh.load(io.BytesIO(data), file_type=file_type, force="mesh", process=False,
                             skip_materials=True)
     except ImportError:  # joining a scene copies its textures, which needs Pillow
-        mesh = _geometry_only(trimesh.load(io.BytesIO(data), file_type=file_type,
+        return _geometry_only(trimesh.load(io.BytesIO(data), file_type=file_type,
                                            force="scene", process=False, skip_materials=True))
-    if _empty(mesh) and path.suffix.lower() == ".dae":
-        mesh = _load_collada_geometry_only(path)
-    return None if _empty(mesh) else (mesh.vertices, mesh.faces, mesh)
+
+
+def _reader(file_type: str) -> str:
+    return "pycollada (trimesh's COLLADA reader)" if file_type in ("dae", "zae") else "trimesh"
+
+
+# the start of an error of a COLLADA file that is XML (read in recover mode) which pycollada
+# still refuses: RViz and Gazebo read COLLADA with other readers (assimp's, Gazebo's own) that
+# may well display it, so it is not an error (``mesh.unreadable`` grades it)
+LENIENT = "an XML document the ROS tools' lenient readers may display; "
+
+
+class Refused(Exception):
+    """A reader refused the file: its message names the reader, and the library's exception
+    without repeating its class name (pycollada's messages start with it)."""
+
+    def __init__(self, reader: str, exc: Exception, lenient: bool = False):
+        super().__init__((LENIENT if lenient else "") + f"{reader} refused it: "
+                         + exception_text(exc))
+
+
+def _without_lead(data: bytes) -> bytes:
+    """A COLLADA file's bytes without the byte-order mark and white space before its XML
+    declaration (which a strict XML parser refuses and assimp's reader skips)."""
+    head = data[:4096]
+    start = head.lstrip()
+    if start.startswith(b"\xef\xbb\xbf"):
+        start = start[3:].lstrip()
+    if not start.startswith(b"<") or len(start) == len(head):
+        return data
+    return data[len(head) - len(start):]
+
+
+def _recovered_xml(data: bytes) -> bytes | None:
+    """The document lxml reads in recover mode (an attribute holding '<', as in an exporter's
+    ``<node id="<STL_BINARY>">``, an unclosed tag...), written again as well-formed XML; None
+    when no <COLLADA> document is left (not XML at all: no reader displays it)."""
+    from lxml import etree
+
+    from urdftool.xmlrepair import secure_parser
+
+    try:
+        root = etree.fromstring(data, secure_parser(recover=True))
+    except (etree.XMLSyntaxError, ValueError):
+        return None
+    if root is None or not isinstance(root.tag, str) or etree.QName(root).localname != "COLLADA":
+        return None
+    return etree.tostring(root, xml_declaration=True, encoding="utf-8")
 
 
 _STL_RECORD = [("normal", "<f4", (3,)), ("vertices", "<f4", (3, 3)), ("attribute", "<u2")]
@@ -505,7 +574,7 @@ def _geometry_only(scene):
     return trimesh.Trimesh(np.vstack(vertices), np.vstack(faces), visual=visual, process=False)
 
 
-def _load_collada_geometry_only(path: Path):
+def _load_collada_geometry_only(data: bytes):
     """pycollada drops a node whose <bind_material> names a missing material or texture (the
     node's geometry then vanishes); rviz and Gazebo still draw it. Materials do not matter
     here: read the file again without them."""
@@ -513,7 +582,7 @@ def _load_collada_geometry_only(path: Path):
 
     import trimesh
 
-    data = _without_elements(path.read_bytes(), b"bind_material")
+    data = _without_elements(data, b"bind_material")
     return trimesh.load(io.BytesIO(data), file_type="dae", force="mesh", process=False)
 
 
@@ -586,7 +655,7 @@ def _summarise(path: Path, vertices, faces, mesh, need_volume: bool) -> MeshInfo
     triangles), or None when the file was read directly."""
     import numpy as np
 
-    unit, up_rotation = _collada_frame(path)
+    unit = _collada_unit(path)
     vertices = np.asarray(vertices, dtype=float) * unit
     faces = np.asarray(faces)
     lower = tuple(float(x) for x in vertices.min(axis=0))
@@ -595,7 +664,7 @@ def _summarise(path: Path, vertices, faces, mesh, need_volume: bool) -> MeshInfo
     hull_points, hull_triangles = _hull(points)
     flat = array("d", np.ascontiguousarray(hull_points, dtype=np.float64).ravel().tolist())
     info = {"path": str(path), "flat": flat, "lower": lower, "upper": upper,
-            "faces": len(faces), "up_rotation": up_rotation}
+            "faces": len(faces)}
     if not need_volume:
         return MeshInfo(**info)  # type: ignore[arg-type]
     import trimesh
@@ -627,18 +696,12 @@ VECTOR_POINTS_LOADED = 24
 
 
 def _columns(info: MeshInfo):
-    """The hull's (x, y, z) columns as float64 arrays, made once per mesh summary (both up-axis
-    readings when the file's up axis is ambiguous)."""
+    """The hull's (x, y, z) columns as float64 arrays, made once per mesh summary."""
     columns = _COLUMNS.get(id(info))
     if columns is None or columns[0] is not info:
         import numpy as np
 
-        if info.up_rotation is None:
-            points = np.frombuffer(info.flat, dtype=np.float64).reshape(-1, 3)
-        else:
-            hull = info.hull
-            hull = (*hull, *(mat_vec(info.up_rotation, p) for p in hull))
-            points = np.array(hull, dtype=np.float64).reshape(-1, 3)
+        points = np.frombuffer(info.flat, dtype=np.float64).reshape(-1, 3)
         columns = _COLUMNS[id(info)] = (info, points[:, 0].copy(), points[:, 1].copy(),
                                         points[:, 2].copy())
     return columns[1:]
@@ -649,15 +712,14 @@ _COLUMNS: dict[int, tuple] = {}  # id(MeshInfo) -> (the info, its hull's columns
 
 class MeshExtent(Extent):
     """A mesh's convex hull placed in the link frame (scale, then rotation and translation).
-    When the file's up axis is ambiguous, the hull of both readings (a superset: bounds and
-    inside tests stay on the safe side). Plain Python over a small hull (a run whose meshes all
+    Plain Python over a small hull (a run whose meshes all
     come from the persistent cache and are small imports no numpy); numpy over one of more than
     ``VECTOR_POINTS`` vertices, with the same arithmetic element by element (the same floats,
     the same vertex chosen among equals)."""
 
     def __init__(self, info: MeshInfo, scale: Vec3, rotation: Mat3, translation: Vec3):
         super().__init__(rotation, translation)
-        count = info.hull_size * (2 if info.up_rotation is not None else 1)
+        count = info.hull_size
         sx, sy, sz = scale
         (a, b, c), (d, e, f), (g, h, i) = rotation
         tx, ty, tz = translation
@@ -669,11 +731,8 @@ class MeshExtent(Extent):
                             g * x + h * y + i * z + tz)
             self.points = None
             return
-        hull = info.hull
-        if info.up_rotation is not None:  # either orientation: the union of both
-            hull = (*hull, *(mat_vec(info.up_rotation, p) for p in hull))
         points = []
-        for x, y, z in hull:
+        for x, y, z in info.hull:
             x, y, z = x * sx, y * sy, z * sz
             points.append((a * x + b * y + c * z + tx, d * x + e * y + f * z + ty,
                            g * x + h * y + i * z + tz))

@@ -71,9 +71,19 @@ def _origin_loc(robot, link):
 
 
 def _analyses(robot, name: str):
+    defaults = robot.source.defaults
     for a in analysis.analyse(robot).values():
-        if name in a.findings:
-            yield a
+        if name in a.findings and not (defaults and defaults.get(a.link.name)):
+            yield a  # (a static SDF model's default inertial never acts: not judged)
+
+
+def _defaulted(robot, a) -> str:
+    """What to say of a tensor the author did not write: SDFormat's default (an SDF link
+    without <inertial>, converted)."""
+    if a.link.name not in robot.source.defaults:
+        return ""
+    return ("; the link has no <inertial>: mass 1 kg and ixx = iyy = izz = 1 kg·m² are "
+            "SDFormat's default, which Gazebo simulates (see sdf.default-inertial)")
 
 
 # issue 22.4: inertias that simulation models set on purpose. A multicopter's motor plugin spins
@@ -359,7 +369,10 @@ A massless link between two joints (a hip or wrist built from several revolute j
 for PyBullet, pinocchio and Drake when the links beyond it carry mass, and is not reported,
 unless the description carries `<gazebo>` blocks: Gazebo's URDF reader (sdformat) drops a
 link of zero mass attached by a moving joint, together with its joints and everything beyond
-it (not reported for an SDF: Gazebo reads it as SDF, and the massless links its conversion to
+it. It judges the lumped body: the links fixed to a link are merged into it first (their mass
+becomes its mass, unless the fixed joint's `<gazebo>` block sets `preserveFixedJoint` or
+`disableFixedJointLumping`), so a massless link whose fixed children carry mass is kept (not
+reported for an SDF: Gazebo reads it as SDF, and the massless links its conversion to
 URDF adds are named by `sdf.unsupported-joint`). A description with no `<inertial>` at all is
 reported once, as `inertia.kinematics-only`.""",
       bad=_robot(_link("base", "1", ("0.01", "0.01", "0.01")) + '\n'
@@ -384,8 +397,11 @@ def massless_moving_link(robot):
             continue
         moves = f"link '{link.name}' moves (joint '{joint.name}', {joint.type})"
         if link.inertial is None:
+            lumped = _gazebo_lumped_mass(robot, bodies, link.name)
+            gazebo_says = ("Gazebo drops it and what hangs from it" if lumped == 0 else
+                           f"Gazebo lumps what is fixed to it ({lumped:g} kg) into it")
             yield Finding(f"{moves} but has no <inertial>: PyBullet gives it 1 kg and "
-                          "1 kg·m², Gazebo drops it and what hangs from it", link.loc,
+                          f"1 kg·m², {gazebo_says}", link.loc,
                           hint="add an <inertial> with the link's mass and inertia "
                                "(`urdftool inertia FILE --density 1000` suggests one)")
         elif link.inertial.mass == 0 and bodies.subtree_mass(link.name) == 0:
@@ -397,12 +413,38 @@ def massless_moving_link(robot):
             yield Finding(f"{moves} but neither it nor {what} mass: the joint moves nothing "
                           "and its equation of motion is singular",
                           _mass_loc(link), hint="give the link its mass and inertia")
-        elif link.inertial.mass == 0 and gazebo:
+        elif link.inertial.mass == 0 and gazebo \
+                and _gazebo_lumped_mass(robot, bodies, link.name) == 0:
             yield Finding(f"{moves} with mass 0 in a description for Gazebo: Gazebo's URDF "
                           f"reader drops it, joint '{joint.name}' and everything beyond it "
                           f"({bodies.subtree_mass(link.name):g} kg)", _mass_loc(link),
                           hint="give the link a small mass and inertia (a few grams and "
                                "1e-6 kg·m² keep the chain)")
+
+
+_LUMPING_OFF = ("preserveFixedJoint", "disableFixedJointLumping")
+
+
+def _gazebo_lumped_mass(robot, bodies, name: str) -> float:
+    """The mass Gazebo's URDF reader (sdformat) gives link ``name``: its own and that of every
+    link fixed to it, lumped into it before it judges a link massless (``ReduceFixedJoints``
+    runs first), except through a fixed joint whose <gazebo> block keeps it
+    (``preserveFixedJoint``, ``disableFixedJointLumping``)."""
+    kept = set()
+    for block in robot.elements("gazebo"):
+        reference = block.get("reference")
+        if reference and any((block.findtext(tag) or "").strip().lower() in ("true", "1")
+                             for tag in _LUMPING_OFF):
+            kept.add(reference)
+    total, stack, seen = bodies.mass.get(name, 0.0), [name], {name}
+    while stack:
+        for joint in bodies.children.get(stack.pop(), []):
+            if joint.moving or joint.child is None or joint.child in seen or joint.name in kept:
+                continue
+            seen.add(joint.child)
+            stack.append(joint.child)
+            total += bodies.mass.get(joint.child, 0.0)
+    return total
 
 
 def _massless_tops(robot, bodies) -> dict[str, str | None]:
@@ -502,6 +544,23 @@ def triangle_inequality(robot):
 # -- against the geometry --------------------------------------------------------------------
 
 
+def _impossible(robot) -> set:
+    """The links whose tensor is impossible for their geometry (an error of exceeds-geometry,
+    or of unit-scale, which takes its place)."""
+    return {a.link.name for a in analysis.analyse(robot).values()
+            if a.findings.get("exceeds-geometry") == "error"
+            or a.findings.get("unit-scale") == "error"}
+
+
+def _lumped_verdict(robot, a, severity: str, impossible: set) -> tuple[str, str]:
+    """(severity, sentence) of an impossible tensor, judged through the body its link is
+    lumped into (``_merged_verdict``)."""
+    if severity != "error" or a.link.name is None:
+        return severity, ""
+    effect = analysis.RigidBodies(robot).tensor_effect(a.link.name, impossible)
+    return _merged_verdict(a.link.name, effect) if effect is not None else (severity, "")
+
+
 @rule("inertia.exceeds-geometry", "error",
       "a declared moment is larger than the mass can have inside the link's geometry",
       doc="""A mass m lying inside a region has, about any axis through its centre of mass,
@@ -535,18 +594,13 @@ warning that names the plugin (also for `inertia.triangle-inequality` and
       fix="unsafe")
 def exceeds_geometry(robot):
     found = list(_analyses(robot, "exceeds-geometry"))
-    impossible = {a.link.name for a in found if a.findings["exceeds-geometry"] == "error"}
-    bodies = analysis.RigidBodies(robot) if impossible else None
+    impossible = _impossible(robot) if found else set()
     for a in found:
         # permuted axes: that rule's fix keeps the author's numbers
         edits, note = _derived_edits(robot, a) if "permuted-axes" not in a.findings else ((), "")
         b = a.bound
         m = a.mass
-        severity, merged = a.findings["exceeds-geometry"], ""
-        if bodies is not None and severity == "error" and a.link.name is not None:
-            effect = bodies.tensor_effect(a.link.name, impossible)
-            if effect is not None:
-                severity, merged = _merged_verdict(a.link.name, effect)
+        severity, merged = _lumped_verdict(robot, a, a.findings["exceeds-geometry"], impossible)
         axis = b.axis_name.replace("principal", "principal axis") \
             if b.axis_name.startswith("principal") else f"{b.axis_name} axis"
         severity, convention = _convention(robot, a, severity, "")
@@ -554,8 +608,9 @@ def exceeds_geometry(robot):
                       f"{axis} through the COM is {b.ratio:.3g}x the most {m:g} kg can have "
                       f"within its {a.bound_over} geometry ({m:g} kg × "
                       f"({_g(b.reach)} m)² = {_g(b.bound)} kg·m²)" + _unread_visuals(a)
-                      + (f"; ixx = iyy = izz = {a.declared[0][0]:g} looks like a placeholder"
-                         if analysis.is_placeholder(a.declared) else "") + merged + convention,
+                      + (_defaulted(robot, a) or
+                         (f"; ixx = iyy = izz = {a.declared[0][0]:g} looks like a placeholder"
+                          if analysis.is_placeholder(a.declared) else "")) + merged + convention,
                       _moment_loc(robot, a.link, b.axis_name),
                       hint=(_block_hint(a) or "") + note or None, severity=severity, edits=edits)
 
@@ -642,21 +697,36 @@ _SLIPS = {
       doc="""All three declared moments differ from what the geometry gives for the
 declared mass by the same power of a thousand: grams for kilograms, millimetres for metres
 (kg·mm² is a million times kg·m²). CAD tools export in their document units and the numbers
-get pasted as they are. Round placeholders (ixx = iyy = izz = 1, 0.001...) are not called a
-slip. Reported when the ratio is within a factor √10 of 10³ or 10⁶ (or
-their inverses) on every axis alike; a ratio above 1 must also break the geometry bound
-(`inertia.exceeds-geometry`), so a large but possible inertia is not called a slip.""",
-      bad=_robot(_link("box", "1", ("0.41", "0.41", "0.41"),
-                       '<box size="0.05 0.05 0.05"/>')),
-      good=_robot(_link("box", "1", ("0.00041", "0.00041", "0.00041"),
-                        '<box size="0.05 0.05 0.05"/>')))
+get pasted as they are. Reported only on that evidence: the three ratios (declared over
+geometry, per axis) agree within a factor 2 and their geometric mean is within a factor √10
+of 10³ or 10⁶ (or their inverses); a ratio above 1 must also break the geometry bound
+(`inertia.exceeds-geometry`), so a large but possible inertia is not called a slip. A round
+placeholder typed in (ixx = iyy = izz = 1, 0.01, 0.05...: a CAD export has the part's own
+unequal moments) is not called a slip: `inertia.exceeds-geometry` reports it.
+
+One finding per tensor: a slip found is reported here instead of `inertia.exceeds-geometry`,
+with that rule's severity (an error when the tensor is impossible for the geometry, judged
+through the body a fixed link is lumped into), a warning when the moments are too small.""",
+      bad=_robot(_link("box", "1", ("1.04167", "1.04167", "0.416667"),
+                       '<box size="0.05 0.05 0.1"/>')),
+      good=_robot(_link("box", "1", ("0.00104167", "0.00104167", "0.000416667"),
+                        '<box size="0.05 0.05 0.1"/>')))
 def unit_scale(robot):
-    for a in _analyses(robot, "unit-scale"):
+    found = list(_analyses(robot, "unit-scale"))
+    impossible = _impossible(robot) if found else set()
+    for a in found:
         ratio = [r for r in a.ratios]
+        severity, merged = _lumped_verdict(robot, a, a.findings["unit-scale"], impossible)
+        severity, convention = _convention(robot, a, severity, "")
+        bound = ""
+        if a.bound is not None and a.unit_slip > 1:
+            bound = (f"; {_g(a.bound.moment)} kg·m² is {a.bound.ratio:.3g}x the most "
+                     f"{a.mass:g} kg can have within its {a.bound_over} geometry")
         yield Finding(f"link '{a.link.name}': declared moments are {_g(ratio[0])}x, "
                       f"{_g(ratio[1])}x, {_g(ratio[2])}x (ixx, iyy, izz) what its "
                       f"{a.derived_from} geometry gives for {a.mass:g} kg: "
-                      f"{_SLIPS[a.unit_slip]}?", _inertia_loc(a.link), hint=_block_hint(a))
+                      f"{_SLIPS[a.unit_slip]}?" + bound + merged + convention,
+                      _inertia_loc(a.link), hint=_block_hint(a), severity=severity)
 
 
 @rule("inertia.com-outside-geometry", "warning",
@@ -667,7 +737,14 @@ outside it by more than a quarter of the body's width in that direction (decimat
 rounded numbers stay well within that). Common causes: the inertial `<origin>` copied from the
 joint or written in the parent's frame, a sign error, a `<pose>` that URDF ignores, or
 geometry that leaves out a heavy part. The fix (unsafe: it trusts the geometry) puts the
-inertial `<origin xyz>` at the geometry's centroid.""",
+inertial `<origin xyz>` at the geometry's centroid.
+
+Meshes are placed as the ROS tools place them (for every rule of this family): a COLLADA
+file's `<unit meter>` is applied and its `<up_axis>` is not. RViz drops the rotation assimp puts
+in the scene's root node for a non-Y-up file (rviz `src/rviz/mesh_loader.cpp`, `buildMesh`),
+MoveIt's geometric_shapes resets that transform (`src/mesh_operations.cpp`), and Gazebo
+classic's own COLLADA loader (`gazebo/common/ColladaLoader.cc`) reads `<unit>` only: a
+`Y_UP` mesh is drawn and collided in its own coordinates, so it is checked in them.""",
       bad=_robot('<link name="chassis">\n  <inertial><origin xyz="0 0 0.1"/>'
                  '<mass value="5"/>' + _INERTIA.format(0.0395, 0.106, 0.142) + '</inertial>\n'
                  '  <visual><geometry><box size="0.5 0.3 0.07"/></geometry></visual>\n'
@@ -693,7 +770,8 @@ def com_outside_geometry(robot):
                                       {"xyz": " ".join(map(number, a.solid.centroid))})
         yield Finding(f"link '{a.link.name}': centre of mass ({x:g}, {y:g}, {z:g}) lies "
                       f"{_g(a.com_distance)} m outside the convex hull of its visual and "
-                      f"collision geometry ({width})", loc, hint=_centroid_hint(a) + note,
+                      f"collision geometry ({width})" + _defaulted(robot, a), loc,
+                      hint=_centroid_hint(a) + note,
                       edits=edits)
 
 
@@ -719,7 +797,8 @@ def geometry_mismatch(robot):
                    + ("larger" if worst >= 1 else "smaller") + " than")
         yield Finding(f"link '{a.link.name}': {how} a uniform body of its {a.derived_from} "
                       f"geometry and {a.mass:g} kg (ixx, iyy, izz declared {_g(d[0])}, {_g(d[1])}, "
-                      f"{_g(d[2])}; geometry {_g(g[0])}, {_g(g[1])}, {_g(g[2])} kg·m²)",
+                      f"{_g(d[2])}; geometry {_g(g[0])}, {_g(g[1])}, {_g(g[2])} kg·m²)"
+                      + _defaulted(robot, a),
                       _inertia_loc(a.link), hint=_block_hint(a))
 
 
@@ -746,4 +825,5 @@ def implausible_density(robot):
             density = a.mass / volumes[role]
             what = f"denser than osmium (> {analysis.DENSITY_HIGH:g} kg/m³)"
         yield Finding(f"link '{a.link.name}': {a.mass:g} kg in {_g(volumes[role])} m³ of "
-                      f"{role} geometry is {_g(density)} kg/m³, {what}", _mass_loc(a.link))
+                      f"{role} geometry is {_g(density)} kg/m³, {what}" + _defaulted(robot, a),
+                      _mass_loc(a.link))

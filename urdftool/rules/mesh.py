@@ -322,9 +322,17 @@ def _folders(directory) -> list[str]:
 
 
 @rule("mesh.unreadable", "error", "a mesh file cannot be read as a mesh",
-      doc="""The file exists but trimesh cannot read it (corrupt, truncated, an HTML error page
-saved as .stl, a format with no triangles). Simulators fail on it the same way. Formats trimesh
-does not read (Ogre `.mesh`, for instance) are not checked.""",
+      doc="""The file exists but cannot be read as a mesh (corrupt, truncated, an HTML error
+page saved as .stl, a format with no triangles). Simulators fail on it the same way. Formats
+trimesh does not read (Ogre `.mesh`, for instance) are not checked. The message names the
+reader that refused the file.
+
+A COLLADA file is read as the ROS tools read it: RViz and MoveIt through assimp, Gazebo
+classic with its own loader, both lenient about XML. White space or a byte-order mark before
+`<?xml` is skipped, and a document a strict XML parser refuses (an exporter's
+`<node id="<STL_BINARY>">`: `<` inside an attribute) is read in lxml's recover mode, as
+assimp reads it. When pycollada still refuses such an XML document, RViz and Gazebo may well
+display it: a warning (the file's other checks are not run), not an error.""",
       bad='<robot name="r"><link name="a"><visual><geometry>'
           '<mesh filename="package://urdftool/physics/examples/corrupt.stl"/>'
           '</geometry></visual></link></robot>',
@@ -335,8 +343,11 @@ def unreadable(robot):
         mesh = info.mesh
         if mesh is not None and mesh.error is not None and not _timed_out(mesh) \
                 and info.problem != analysis.NO_LIBRARY:
+            from urdftool.physics.meshes import LENIENT  # loaded already: this mesh was read
+
+            lenient = mesh.error.startswith(LENIENT)
             yield Finding(f"{_what(a, info)} mesh {info.path.name} cannot be read: "
-                          f"{mesh.error}", _loc(info))
+                          f"{mesh.error}", _loc(info), severity="warning" if lenient else None)
 
 
 def _timed_out(mesh) -> bool:

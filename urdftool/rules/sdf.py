@@ -228,10 +228,19 @@ source_rule(
 )
 
 source_rule(
-    "sdf.default-inertial", "info", "a link without <inertial>: SDF's default mass 1 kg is written out",
+    "sdf.default-inertial", "warning", "a link without <inertial>: SDF's default mass 1 kg is written out",
     doc="""In SDFormat a link with no `<inertial>` has mass 1 and inertia diag(1, 1, 1), not
-    zero. The converted URDF writes those values out so that it means what the SDF meant; if the
-    link is really a massless frame, make it a `<frame>`.""",
+    zero, and Gazebo simulates it so. The converted URDF writes those values out so that it
+    means what the SDF meant; if the link is really a massless frame, make it a `<frame>`.
+
+    Graded by consequence, the share of the model's mass in Gazebo that nobody wrote (the
+    default kilograms over those plus the masses the model declares): an error from 50% (the
+    default masses dominate the dynamics: three frame links on a 1.4 kg robot triple its mass),
+    a warning from 10%, advice below; a warning when no link declares an `<inertial>` (each is
+    simulated as 1 kg). Not reported on a static model (`<static>true</static>`, or nested in
+    one): Gazebo never integrates it, and the `inertia` rules do not judge its default values
+    either. Elsewhere they say that the value they judge is SDFormat's default, not the
+    author's.""",
     bad=_model('<link name="base"/>'),
     good=_model(_BASE),
 )

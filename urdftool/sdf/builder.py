@@ -28,6 +28,19 @@ from urdftool.sdf.schema import JOINT_TYPES
 from urdftool.sdf.transforms import IDENTITY, Transform
 
 UNBOUNDED = 1e16  # SDF's own "no limit" (the default of <lower>/<upper> up to 1.9)
+DEFAULT_MASS = 1.0  # kg: SDFormat's mass of a link without <inertial> (inertia diag(1, 1, 1))
+# sdf.default-inertial: a warning when the default masses are this share of the model's mass
+# in Gazebo, an error when they are most of it (they dominate its dynamics)
+DEFAULT_WARNING_SHARE, DEFAULT_ERROR_SHARE = 0.1, 0.5
+
+
+def _static(scope: Scope) -> bool:
+    """The scope's model, or a model it is nested in, is static: Gazebo never moves it."""
+    while scope is not None:
+        if scope.static:
+            return True
+        scope = scope.parent
+    return False
 MOVING = ("revolute", "continuous", "prismatic")
 GAZEBO_MASSLESS = ("for Gazebo, give the links between the joints a small <inertial>: its URDF "
                    "reader drops moving links of zero mass")
@@ -107,6 +120,8 @@ class Builder:
         self.unlimited: list[tuple[str, object]] = []
         # meshes kept as written, by what is missing (a model, the network): reported once each
         self.unread_meshes: dict[str, list[tuple[str, object]]] = {}
+        self.defaulted: list[Entity] = []  # links of moving models without <inertial>
+        self.authored_mass = 0.0  # what the <inertial>s of moving models declare
 
     def named(self, entity: Entity) -> bool:
         node = self.graph.nodes.get(entity.key)
@@ -191,6 +206,7 @@ class Builder:
         self.emit_model_extras()
         self.report_unlimited()
         self.report_unread_meshes()
+        self.report_defaults()
         for element in reversed(self.material_elements):
             self.root.insert(0, element)
         self.add_name_comment()
@@ -718,11 +734,11 @@ class Builder:
 
     def inertial(self, link, entity: Entity, link_pose: Transform) -> None:
         inertial = entity.element.find("inertial")
+        static = _static(entity.scope)
         if inertial is None:
-            self.report("sdf.default-inertial",
-                        f"link '{entity.key}' has no <inertial>: SDFormat gives it mass 1 and "
-                        "inertia diag(1, 1, 1), written out explicitly", entity.element,
-                        hint="give the link its real <inertial>")
+            self.source.defaults[link.get("name")] = static
+            if not static:  # Gazebo never integrates a static model: its mass does not act
+                self.defaulted.append(entity)
             out = self.sub(link, "inertial", entity.element)
             self.origin(out, link_pose, None)
             self.sub(out, "mass", entity.element, value=fmt(1.0))
@@ -747,6 +763,8 @@ class Builder:
         out = self.sub(link, "inertial", inertial)
         self.origin(out, base * raw, pose_element if pose_element is not None else inertial)
         mass = self.reader.number(inertial, "mass", 1.0)
+        if not static and math.isfinite(mass) and mass > 0:
+            self.authored_mass += mass
         mass_element = inertial.find("mass")
         self.sub(out, "mass", mass_element if mass_element is not None else inertial,
                  value=fmt(mass))
@@ -962,6 +980,32 @@ class Builder:
                 self.report("sdf.not-in-urdf", f"plugin '{plugin.get('name')}' is kept in a "
                             "<gazebo> block (Gazebo runs it; other URDF tools do not)", plugin,
                             severity="info")
+
+    def report_defaults(self) -> None:
+        """sdf.default-inertial, graded by what SDFormat's default 1 kg per link does to the
+        model's mass in Gazebo: the share of the simulated mass that nobody wrote."""
+        if not self.defaulted:
+            return
+        count = len(self.defaulted)
+        total = self.authored_mass + count * DEFAULT_MASS
+        share = count * DEFAULT_MASS / total
+        if self.authored_mass <= 0:
+            severity = "warning"
+            effect = (f"no link of the model declares an <inertial>: Gazebo simulates each of "
+                      f"its {count} links as {DEFAULT_MASS:g} kg with 1 kg·m²")
+        else:
+            severity = ("error" if share >= DEFAULT_ERROR_SHARE else
+                        "warning" if share >= DEFAULT_WARNING_SHARE else "info")
+            effect = (f"the {count} link{'s' if count > 1 else ''} without one add "
+                      f"{count * DEFAULT_MASS:g} kg to the {self.authored_mass:.4g} kg the model "
+                      f"declares: {share:.0%} of its mass in Gazebo")
+        for entity in self.defaulted:
+            self.report("sdf.default-inertial",
+                        f"link '{entity.key}' has no <inertial>: SDFormat's default gives it "
+                        f"mass {DEFAULT_MASS:g} kg and inertia diag(1, 1, 1) kg·m² (written "
+                        f"out explicitly); {effect}", entity.element, severity=severity,
+                        hint="give the link its real <inertial>; a massless reference frame "
+                             "is a <frame>, not a <link>")
 
     def report_unlimited(self) -> None:
         if not self.unlimited:
