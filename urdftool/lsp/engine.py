@@ -158,6 +158,9 @@ class Engine:
         self.buffers: dict[str, str] = {}  # resolved path -> unsaved text
         self.units: dict[Path, Unit] = {}
         self.snapshot: dict[Path, Result] = {}  # unit root -> its last result
+        # the client's workspace folders (resolved): each one is the root of the checks of
+        # the files in it, nothing above it (issue 28.2; ``urdftool.loader.run_roots``)
+        self.folders: list[Path] = []
 
     # -- options -------------------------------------------------------------------------
 
@@ -183,8 +186,15 @@ class Engine:
         configuration is merged in."""
         options = CheckOptions(self.load_options(), list(self.settings.select),
                                list(self.settings.ignore), unit.config)
-        options.load.roots = run_roots([unit.root], options.load)
+        options.load.roots = run_roots([unit.root], options.load,
+                                       workspace=self.workspace_of(unit.root))
         return options
+
+    def workspace_of(self, path: Path) -> Path | None:
+        """The innermost workspace folder holding ``path``; None for a file outside them (its
+        root is then as ``check PATH`` gives it)."""
+        inside = [f for f in self.folders if Path(resolved(path)).is_relative_to(f)]
+        return max(inside, key=lambda f: len(f.parts)) if inside else None
 
     def set_settings(self, settings: Settings) -> None:
         self.settings = settings

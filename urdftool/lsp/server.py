@@ -332,6 +332,18 @@ def guarded(function):
     return wrapper
 
 
+def workspace_folders(params: lsp.InitializeParams) -> list[Path]:
+    """The client's workspace folders (``workspaceFolders``, else ``rootUri``/``rootPath``),
+    resolved: the roots of the checks of their files (the workspace folder, not the work tree
+    around it: a checkout without metadata of its own, a folder of a monorepo)."""
+    uris = [f.uri for f in params.workspace_folders or ()] or \
+        ([params.root_uri] if params.root_uri else [])
+    paths = [to_fs_path(u) for u in uris if u.startswith("file:")]
+    if not paths and params.root_path:
+        paths = [params.root_path]
+    return [Path(os.path.realpath(p)) for p in paths if p]
+
+
 def make_server(settings: Settings | None = None) -> UrdfLanguageServer:
     from urdftool.lsp import actions, navigation
 
@@ -343,6 +355,7 @@ def make_server(settings: Settings | None = None) -> UrdfLanguageServer:
         settings, problems = ls.launch_settings.updated(params.initialization_options,
                                                         trust=True)
         ls.engine.set_settings(settings)
+        ls.engine.folders = workspace_folders(params)
         for problem in problems:
             ls.log(f"urdftool: initializationOptions: {problem}", lsp.MessageType.Warning)
 
