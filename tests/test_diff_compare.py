@@ -335,3 +335,51 @@ def test_a_name_moved_to_another_link_is_two_renames(write):
         ("link", "renamed", "base_link_fixed", "base_link"),
         ("link", "renamed", "base_link", "base_link_inertia"),
         ("joint", "renamed", "base_link_fixed-base_link", "base_link-base_link_inertia")}
+
+
+RARE = """<robot name="r">
+  <material name="steel"><color rgba="0.5 0.5 0.5 1"/></material>
+  <link name="base"><visual><geometry><box size="0.1 0.1 0.1"/></geometry><material name="steel"/></visual></link>
+  <link name="a"/><link name="b"/>
+  <joint name="ja" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="{effort}" velocity="1"/>
+    <safety_controller soft_lower_limit="{soft}" soft_upper_limit="0.9" k_position="10" k_velocity="1"/>
+    <calibration rising="{rising}"/></joint>
+  <joint name="jb" type="revolute"><parent link="base"/><child link="b"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/><mimic joint="ja" multiplier="{multiplier}"/></joint>
+  <transmission name="t1"><type>transmission_interface/SimpleTransmission</type>
+    <joint name="ja"><hardwareInterface>{interface}</hardwareInterface></joint></transmission>
+  <gazebo reference="a"><mu1>{mu}</mu1></gazebo>
+</robot>
+"""
+RARE_VALUES = {"effort": "1", "soft": "-0.9", "rising": "0.1", "multiplier": "1",
+               "interface": "hardware_interface/EffortJointInterface", "mu": "0.5"}
+
+
+@pytest.mark.parametrize(("field", "value", "expected"), [
+    ("soft", "-0.8", ("joint", "ja", "safety_controller")),
+    ("rising", "0.2", ("joint", "ja", "calibration")),
+    ("multiplier", "-1", ("joint", "jb", "mimic")),
+    ("interface", "hardware_interface/PositionJointInterface", ("transmission", "t1", "changed")),
+    ("mu", "0.9", ("gazebo", "a", "changed")),
+    ("effort", repr(1 + 2e-9), ("joint", "ja", "limit.effort")),  # beyond the relative 1e-9
+    ("effort", repr(1 + 5e-10), None),  # within it: the same number
+    ("mu", "5e-1", None),  # written another way
+])
+def test_each_aspect_and_the_number_equality(write, field, value, expected):
+    changes = diff_json(write, RARE.format(**RARE_VALUES),
+                        RARE.format(**{**RARE_VALUES, field: value}))
+    assert [(c["element"], c["name"], c["aspect"]) for c in changes] == \
+        ([expected] if expected else [])
+    for change in changes:
+        assert change["line"] and change["base_line"]
+
+
+def test_a_material_redefined_and_a_visual_material_swapped(write):
+    before = RARE.format(**RARE_VALUES)
+    recoloured = before.replace('rgba="0.5 0.5 0.5 1"', 'rgba="0.6 0.5 0.5 1"')
+    assert [(c["element"], c["name"], c["aspect"]) for c in diff_json(write, before, recoloured)] \
+        == [("material", "steel", "material")]
+    swapped = before.replace('<material name="steel"/>', '<material name="red"><color rgba="1 0 0 1"/></material>')
+    found = {(c["element"], c["name"], c["aspect"]) for c in diff_json(write, before, swapped)}
+    assert found == {("link", "base", "material"), ("material", "red", "added")}

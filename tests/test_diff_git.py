@@ -299,3 +299,15 @@ def test_configured_entries_each_compared_and_alike_variants_shown_once(repo):
     result = run_urdftool("diff", *SLOW, "--format", "markdown", "--trusted", "HEAD~1..HEAD")
     assert result.out.count("### ") == 1, result.out
     assert "alike for variant:=a; variant:=b: changed" in result.out
+
+
+def test_what_cannot_be_compared_exits_2_with_one_line(repo, tmp_path, monkeypatch):
+    for args, said in ((["no-such-revision"], "'no-such-revision': no such revision"),
+                       (["HEAD", "HEAD~1", "x"], "give at most one revision range"),
+                       (["--", "../elsewhere"], "not inside the repository")):
+        result = run_urdftool("diff", *SLOW, *args)
+        assert result.code == 2 and said in result.err, (args, result.err)
+        assert len(result.err.strip().splitlines()) == 1 and "Traceback" not in result.err
+    monkeypatch.chdir(tmp_path)  # not a repository: only snapshots can be compared
+    result = run_urdftool("diff", *SLOW)
+    assert result.code == 2 and "not inside a git repository" in result.err
