@@ -262,3 +262,28 @@ def test_sim_gives_pybullet_no_mesh_outside_the_roots(tmp_path):
                   for m in json.loads(done.stdout)["models"] for c in m["checks"]]
         answers.append(checks)
     assert answers[0] == answers[1], answers
+
+
+@pytest.mark.parametrize("args", [(".",), ("robot.urdf.xacro",), ("--changed", "--",
+                                                                   "robot.urdf.xacro")])
+def test_check_in_a_checkout_without_metadata_reads_nothing_of_the_enclosing_work_tree(
+        tmp_path, monkeypatch, args):
+    """Issue 28.2 for ``check``: a tarball unpacked in a home directory under git took the home
+    directory as its repository (its files readable: here a secret the entry loads). A
+    directory the enclosing work tree does not hold is rooted at what the operator gave."""
+    from tests.conftest import run_urdftool
+
+    home = tmp_path / "home"
+    home.mkdir()
+    (home / "secret.yaml").write_text(f"kind: {SECRET}\n")
+    _git(tmp_path, "init", "-q", str(home))
+    _git(home, "add", "secret.yaml")
+    robot = home / "Downloads" / "robot"
+    robot.mkdir(parents=True)
+    (robot / "robot.urdf.xacro").write_text(ROBOT.format(
+        kind="${xacro.load_yaml('../../secret.yaml')['kind']}"))
+    monkeypatch.chdir(robot)
+    for mode in ("--untrusted", "--trusted"):
+        result = run_urdftool("check", mode, *args)
+        assert SECRET not in result.out + result.err, result
+        assert result.code == 1 and "xacro.error" in result.out, result
