@@ -504,7 +504,7 @@ def _one_per_missing_package(files: list[FileReport]) -> list[FileReport]:
     (files) met it, not once per file."""
     import re
 
-    pattern = re.compile(r"xacro: \$\(find (\S+)\): package '\1' not found$")
+    pattern = re.compile(r"xacro: \$\(find (\S+)\): package '\1' not found(?:$|; skipped)")
     first: dict[str, tuple[FileReport, int]] = {}
     others: dict[str, list[str]] = {}
     for report in files:
@@ -528,8 +528,10 @@ def _one_per_missing_package(files: list[FileReport]) -> list[FileReport]:
             d = report.diagnostics[index]
             shown = ", ".join(places[:3]) + (f" and {len(places) - 3} more" if len(places) > 3
                                              else "")
-            report.diagnostics[index] = d._replace(
-                message=f"{d.message}; {len(places)} other expansion(s) stop on it too: {shown}")
+            head = f"xacro: $(find {name}): package '{name}' not found"
+            report.diagnostics[index] = d._replace(  # (then what an include does without it)
+                message=f"{head}; {len(places)} other expansion(s) need it too: {shown}"
+                        f"{d.message[len(head):]}")
     return files
 
 

@@ -581,13 +581,18 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             if not hasattr(exc, "urdftool_loc") and elt.getAttribute(LOC_ATTR):
                 exc.urdftool_loc = elt.getAttribute(LOC_ATTR)
             outside = isinstance(exc.exc, OutsidePackage)
-            if not (isinstance(exc.exc, OSError) or outside) or not elt.getAttribute(LOC_ATTR):
+            # $(find PKG) of a package not found: the include cannot be read, as a missing file
+            package = getattr(exc.exc, "urdftool_package", None) \
+                or getattr(exc, "urdftool_package", None)
+            if not (isinstance(exc.exc, OSError) or outside or package) \
+                    or not elt.getAttribute(LOC_ATTR):
                 raise
             # outside the roots: the include as written, never the file found (a glob would
             # tell which files exist on the machine)
             message = (f"include '{elt.getAttribute('filename')}' is outside the repository; "
                        "urdftool reads only inside it and the operator's directories (give the "
                        "package with -P NAME=DIR or ROS_PACKAGE_PATH)") if outside \
+                else f"$(find {package}): package '{package}' not found" if package \
                 else str(exc).strip()
             loc = _parse_loc(exc.urdftool_loc, files)
             template = None
@@ -607,10 +612,12 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
     def find(package: str) -> str:
         directory = source.resolver.find(package) if source.resolver else None
         if directory is None:
-            raise xacro.XacroException(
+            missing = xacro.XacroException(
                 f"package '{package}' not found (looked in: "
                 f"{source.resolver.tried() if source.resolver else '-P'}; give it with "
                 f"-P {package}=DIR, or put the directory holding it on ROS_PACKAGE_PATH)")
+            missing.urdftool_package = package
+            raise missing
         return str(directory)
 
     def safe_eval(expr, globals, locals=None):
@@ -776,7 +783,7 @@ def _xacro_pass(source: Source, path: Path, options: LoadOptions, policy: _Polic
             elif outside is not None:
                 work.add("xacro.error", Finding(f"xacro: {outside}", loc))
             elif isinstance(exc, xacro.XacroException):
-                message = str(exc).strip() or type(exc).__name__
+                message = _xacro_message(exc) or type(exc).__name__
                 work.add("xacro.error", Finding(f"xacro: {message}", loc))
             elif not work.problems:
                 work.add("xacro.error", Finding(f"xacro: {exception_text(exc)}", loc))
@@ -802,6 +809,19 @@ def _report_hidden(work: Source, names: list[str], in_sandbox: bool = False) -> 
         work.add("xacro.env-not-allowed", Finding(
             f"$(optenv {name}) took its default: urdftool hides the environment variable "
             f"{name}, which is set, unless --allow-env names it", loc, hint=f"--allow-env {name}", severity="warning"))
+
+
+def _xacro_message(exc) -> str:
+    """A XacroException's text, without the repeat xacro makes of a cause it wraps
+    (``eval_extension``: ``"<class 'X'>: MESSAGE MESSAGE"``)."""
+    text = str(exc).strip()
+    inner = getattr(exc, "exc", None)
+    if inner is not None and text.startswith(f"{type(inner)}: "):
+        text = text[len(f"{type(inner)}: "):]
+        cause = str(inner).strip()
+        if cause and text.startswith(f"{cause} {cause}"):
+            text = text[len(cause) + 1:]
+    return text
 
 
 def _one_line(rule: str, finding: Finding) -> tuple[str, Finding]:

@@ -338,6 +338,17 @@ def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | Non
                           finding.hint, err=True)
     if refusals:
         FAILED.append(path)
+    if source.root is not None and source.root.tag == "robot" and robot.links:
+        from urdftool.rules import INCLUDE_SKIPPED
+        from urdftool.rules.xacro import classify
+
+        for rule, finding in source.problems:  # an include that could not be read (a file,
+            if rule == "xacro.error" and finding.message.endswith(INCLUDE_SKIPPED):  # package)
+                _, message, hint = classify(finding.message, robot)  # as check says it; the
+                loc = finding.loc  # robot is what could be built without it
+                print_finding(loc.path if loc else path, loc.line if loc else None,
+                              loc.column if loc else None, finding.severity or "error", rule,
+                              message, finding.hint or hint, err=True)
     if source.root is None or source.root.tag != "robot" or not robot.links:
         if refusals:
             raise click.exceptions.Exit(1)

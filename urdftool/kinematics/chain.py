@@ -106,6 +106,8 @@ class Chain:
     def sample(self, rng: np.random.Generator, count: int) -> np.ndarray:
         """``count`` random configurations within the limits."""
         lows, highs = zip(*(v.sample_range() for v in self.variables))
+        # swapped limits (lower > upper: a defect check reports) sample the span they name
+        lows, highs = np.minimum(lows, highs), np.maximum(lows, highs)
         return rng.uniform(lows, highs, size=(count, self.n))
 
 

@@ -19,7 +19,7 @@ from pathlib import Path
 
 from urdftool.findings import Finding
 from urdftool.model import Robot
-from urdftool.rules import include_failed, rule, source_rule
+from urdftool.rules import INCLUDE_SKIPPED, include_failed, rule, source_rule
 from urdftool.source import FOREIGN_BLOCKS
 
 XACRO_NS = "http://www.ros.org/wiki/xacro"
@@ -116,8 +116,9 @@ def classify(message: str, robot: Robot | None = None) -> tuple[str, str, str | 
             return (kind, f"xacro: macro '{name}' is called but never defined",
                     (f"{_did_you_mean(name, known)}define it with <xacro:macro name=\"{name}\" "
                     "params=\"...\">, or include the file that does"))
-        if kind == "unknown-package":
-            return (kind, f"xacro: $(find {name}): package '{name}' not found",
+        if kind == "unknown-package":  # (at an include: skipped, the rest expanded)
+            skipped = f"; {INCLUDE_SKIPPED}" if text.endswith(INCLUDE_SKIPPED) else ""
+            return (kind, f"xacro: $(find {name}): package '{name}' not found{skipped}",
                     f"give it with -P {name}=DIR, or put the directory holding it on "
                     "ROS_PACKAGE_PATH / AMENT_PREFIX_PATH" + _tried(robot))
         if kind == "missing-include":
@@ -165,7 +166,8 @@ def xacro_error(robot: Robot):
         kind, message, hint = classify(finding.message, robot)
         if held_back and kind in ("undefined-property", "undefined-macro"):
             continue  # perhaps defined in the include that could not be read: that is the cause
-        if held_back and kind == "missing-include":
+        if held_back and kind in ("missing-include", "unknown-package") \
+                and message.endswith(INCLUDE_SKIPPED):
             message += ("; what it may define is not checked until it is read (names, "
                         "properties and macros used here and defined nowhere else)")
         if old_style and kind in ("undefined-property", "undefined-macro", "undefined-arg"):
