@@ -27,7 +27,7 @@ from urdftool.diff.compare import Change, compare
 from urdftool.errors import ToolError
 from urdftool.findings import Loc
 from urdftool.loader import run_roots
-from urdftool.package import Selection, classify, plan, with_operator_args
+from urdftool.package import Selection, classify, plan, triggers, with_operator_args
 from urdftool.roots import real
 
 # files no robot reads: a change to them alone plans nothing (a README, CI configuration)
@@ -153,12 +153,14 @@ def side_entries(side: Side, options: CheckOptions, changed: list[str] | None,
     finally:
         budget.stop()
     every = [list(r.diagnostics) for r in reports]
-    shown, _ = classify(targets, reports, given, selection)
-    shown_ids = {id(r) for r in shown}
+    # every file's role as `check DIR` gives it (whatever the change touched: an entry that
+    # stopped reading a changed file is still looked up at the other side)
+    shown, _ = classify(targets, reports, None, selection)
+    entry_ids = {id(r) for r in shown if r.role == "entry"}
     entries: dict[tuple, Entry] = {}
     touched: set[tuple] = set()
     for target, report, robot, diagnostics in zip(targets, reports, robots, every):
-        if report.role != "entry":
+        if id(report) not in entry_ids:
             continue
         path = relative(target.path, tree)
         if limits and changed is not None and not any(
@@ -170,9 +172,16 @@ def side_entries(side: Side, options: CheckOptions, changed: list[str] | None,
                                               diagnostics))
         # an entry of a touched package that does not expand may never reach the changed
         # files: compared all the same (status error, with the reason), never left out
-        if id(report) in shown_ids or changed is None or _failure(entry) is not None:
+        if changed is None or _reads(target, report, given) or _failure(entry) is not None:
             touched.add(key)
     return entries, touched
+
+
+def _reads(target, report, given: set[str]) -> bool:
+    """Whether a check read a changed file: the "reads" graph of ``check --changed`` (its
+    file, its includes, YAML and meshes; a launch file of its package)."""
+    return bool({real(target.path), *report.includes} & given) or bool(
+        triggers(target, report, given))
 
 
 class Meshes:
