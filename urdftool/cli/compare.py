@@ -109,3 +109,67 @@ def command(ctx, inputs, samples, tolerance, fmt, packages):
                  f"{result.largest:.3g} over {samples + 1} configurations")
         print_notes(result)
     ctx.exit(1 if result.differences else 0)
+
+
+def convert_to_mjcf(ctx, path: str, output: str | None, fmt: str, packages, xacro_args: dict,
+                    samples: int = 20, tolerance: float = 1e-5) -> None:
+    """`urdftool convert ROBOT --to mjcf [-o OUT.xml]`: the MJCF written, then read back by
+    MuJoCo and compared with the input: "verified" with the largest error, or what was lost
+    (exit 1)."""
+    from pathlib import Path
+
+    from urdftool.bodies import tree_of_mujoco, tree_of_robot
+    from urdftool.compare import compare
+    from urdftool.display import clean, xml_guard
+    from urdftool.errors import require
+    from urdftool.mjcf.export import export
+    from urdftool.output import check_target, write_file, write_output
+
+    mujoco = require("mujoco", "mjcf")
+    robot = load_robot(path, packages, xacro_args)
+    tree_a = tree_of_robot(robot, path)
+    out = Path(output) if output not in (None, "-") else None
+    if out is not None:
+        check_target(out, inputs=[path])  # refused before any work
+    result = export(robot, tree_a, out)
+    for mesh_path, data in result.meshes.items():
+        write_file(mesh_path, data, inputs=[path], make_dirs=True)
+    if out is not None:
+        write_output(result.text, output, inputs=[path], offer_in_place=False)
+    elif fmt != "json":
+        write_output(xml_guard(result.text), None)
+    refused = comparison = None
+    try:
+        model = (mujoco.MjModel.from_xml_path(str(out)) if out is not None
+                 else mujoco.MjModel.from_xml_string(result.text))
+    except (ValueError, RuntimeError) as exc:
+        refused = " ".join(str(exc).split())
+    else:
+        comparison = compare(tree_a, tree_of_mujoco(model, str(out or "<stdout>")),
+                             samples=samples, tolerance=tolerance)
+    verified = refused is None and not comparison.differences and not result.lost
+    if fmt == "json":
+        data = {"output": str(out) if out is not None else None,
+                "mjcf": result.text if out is None else None, "verified": verified,
+                "refused": refused, "lost": result.lost, "notes": result.notes,
+                "meshes": sorted(result.meshes),
+                "comparison": result_data(comparison) if comparison is not None else None}
+        print_json(data)
+    else:
+        for item in result.lost:
+            echo(clean(f"lost: {item}"), err=True)
+        if refused is not None:
+            echo(clean(f"urdftool: MuJoCo cannot load the MJCF written: {refused}"), err=True)
+        else:
+            print_differences(comparison, err=True)
+            where = clean(str(out)) if out is not None else "the MJCF"
+            if verified:
+                echo(f"verified: {where} has the bodies, joints, limits, masses and inertias of "
+                     f"{clean(path)} (largest error {comparison.largest:.3g} over "
+                     f"{samples + 1} configurations)", err=True)
+            else:
+                echo(f"not verified: {where} differs from {clean(path)} in "
+                     f"{len(comparison.differences) + len(result.lost)} way(s)", err=True)
+        for note in result.notes:
+            echo(clean(f"note: {note}"), err=True)
+    ctx.exit(0 if verified else 1)

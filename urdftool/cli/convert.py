@@ -1,4 +1,6 @@
-"""`urdftool convert MODEL.sdf [-o OUT.urdf] [--model NAME]`: SDFormat to URDF."""
+"""`urdftool convert MODEL.sdf [-o OUT.urdf] [--model NAME]`: SDFormat to URDF;
+`urdftool convert ROBOT --to mjcf [-o OUT.xml]`: URDF, xacro or SDF to MJCF, verified
+(``urdftool.cli.compare.convert_to_mjcf``)."""
 
 from __future__ import annotations
 
@@ -15,9 +17,13 @@ from urdftool.cli import (
 
 
 @click.command("convert")
-@click.argument("inputs", nargs=-1, required=True, metavar="MODEL.sdf")
+@click.argument("inputs", nargs=-1, required=True, metavar="MODEL.sdf | ROBOT [NAME:=VALUE...]")
 @click.option("-o", "--output", type=click.Path(dir_okay=False),
-              help="Write the URDF here, not to stdout (never over the input).")
+              help="Write the URDF (MJCF) here, not to stdout (never over the input).")
+@click.option("--to", "target", type=click.Choice(["urdf", "mjcf"]), default="urdf",
+              show_default=True,
+              help="urdf: an SDF model as URDF; mjcf: a URDF, xacro or SDF robot as MuJoCo MJCF, "
+                   "read back by MuJoCo and compared with its input.")
 @click.option("--model", "model", metavar="NAME",
               help="The model to convert, when the file (a world) has several.")
 @click.option("--model-path", "model_paths", multiple=True, metavar="DIR",
@@ -33,12 +39,15 @@ from urdftool.cli import (
 @package_option
 @untrusted_options
 @click.pass_context
-def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, packages):
-    """Convert an SDFormat model (1.4 to 1.11) to URDF.
+def command(ctx, inputs, output, target, model, model_paths, package_uris, no_cut, fmt,
+            packages):
+    """Convert an SDFormat model (1.4 to 1.11) to URDF, or a robot to MJCF (--to mjcf).
 
     Frames are resolved through the SDF pose graph; what URDF cannot express is said on stderr
     (the sdf rules) and written in its nearest safe form. Exit code 0: converted; 1: converted
     with errors in the SDF, or refused (--no-cut and a loop); 2: could not convert.
+    --to mjcf: exit 0 when MuJoCo's reading of the MJCF matches the input ("verified"), 1 when
+    something was lost (listed).
     """
     from pathlib import Path
 
@@ -50,7 +59,14 @@ def command(ctx, inputs, output, model, model_paths, package_uris, no_cut, fmt, 
     from urdftool.sdf import ConvertOptions, LoopRefused, ModelChoiceError, convert_guarded, to_text
     from urdftool.source import Source, detect_kind, read_text
 
-    paths, _ = split_args(inputs)
+    paths, xacro_args = split_args(inputs)
+    if target == "mjcf":
+        if len(paths) != 1:
+            raise ToolError("convert --to mjcf takes exactly one ROBOT")
+        from urdftool.cli.compare import convert_to_mjcf
+
+        convert_to_mjcf(ctx, paths[0], output, fmt, packages, xacro_args)
+        return
     if len(paths) != 1:
         raise ToolError("convert takes exactly one MODEL.sdf")
     path = Path(paths[0])
