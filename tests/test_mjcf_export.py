@@ -114,7 +114,8 @@ def test_real_robots_export_verified_against_pinocchio(tmp_path, where, name):
     pinocchio = pytest.importorskip("pinocchio")
     base = pybullet_data_dir() if where == "pybullet" else example_robot_data_dir() / "robots"
     source = base / name
-    result, out = export(tmp_path, source)
+    packages = () if where == "pybullet" else ("-P", f"example-robot-data={example_robot_data_dir()}")
+    result, out = export(tmp_path, source, *packages)
     assert result.code == 0, result.err
     assert "verified:" in result.err
     model = pinocchio.buildModelFromUrdf(str(source))
@@ -156,6 +157,23 @@ def test_real_robots_export_verified_against_pinocchio(tmp_path, where, name):
             continue
         assert m == pytest.approx(mass, rel=1e-12) and np.allclose(c, com, atol=1e-12)
         assert np.linalg.norm(tensor - inertia) <= 1e-9 * np.linalg.norm(inertia) + 1e-15
+
+
+def test_mujoco_warnings_are_notes_not_a_log_file(tmp_path):
+    """MuJoCo's default warning handler appends to MUJOCO_LOG.TXT in the current directory.
+    (A process of its own: MuJoCo caches decoded meshes, and warns only when it decodes.)"""
+    import subprocess
+    import sys
+
+    out = tmp_path / "panda.xml"
+    result = subprocess.run([sys.executable, "-m", "urdftool", "convert",
+                             str(pybullet_data_dir() / "franka_panda" / "panda.urdf"), "--to",
+                             "mjcf", "-o", str(out)], check=False, cwd=tmp_path,
+                            capture_output=True,
+                            text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "note: MuJoCo warned: obj_decoder" in result.stderr
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
 
 
 def test_collada_meshes_are_converted_beside_the_output(tmp_path):

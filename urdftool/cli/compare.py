@@ -87,7 +87,9 @@ def command(ctx, inputs, samples, tolerance, fmt, packages):
     """
     from urdftool.compare import compare
     from urdftool.errors import ToolError
+    from urdftool.mjcf.reader import WARNINGS
 
+    WARNINGS.clear()  # (a process may run several commands: tests)
     paths, xacro_args = split_args(inputs)
     if len(paths) != 2:
         raise ToolError("compare takes two descriptions: A B")
@@ -108,6 +110,8 @@ def command(ctx, inputs, samples, tolerance, fmt, packages):
             echo(f"equivalent: {result.matched} bodies matched, largest error "
                  f"{result.largest:.3g} over {samples + 1} configurations")
         print_notes(result)
+        for warning in dict.fromkeys(WARNINGS):
+            echo(clean(f"note: MuJoCo warned: {warning}"))
     ctx.exit(1 if result.differences else 0)
 
 
@@ -123,9 +127,11 @@ def convert_to_mjcf(ctx, path: str, output: str | None, fmt: str, packages, xacr
     from urdftool.display import clean, xml_guard
     from urdftool.errors import require
     from urdftool.mjcf.export import export
+    from urdftool.mjcf.reader import WARNINGS, compiled
     from urdftool.output import check_target, write_file, write_output
 
     mujoco = require("mujoco", "mjcf")
+    WARNINGS.clear()
     robot = load_robot(path, packages, xacro_args)
     tree_a = tree_of_robot(robot, path)
     out = Path(output) if output not in (None, "-") else None
@@ -140,8 +146,7 @@ def convert_to_mjcf(ctx, path: str, output: str | None, fmt: str, packages, xacr
         write_output(xml_guard(result.text), None)
     refused = comparison = None
     try:
-        model = (mujoco.MjModel.from_xml_path(str(out)) if out is not None
-                 else mujoco.MjModel.from_xml_string(result.text))
+        model = compiled(mujoco, out, result.text)
     except (ValueError, RuntimeError) as exc:
         refused = " ".join(str(exc).split())
     else:
@@ -172,4 +177,6 @@ def convert_to_mjcf(ctx, path: str, output: str | None, fmt: str, packages, xacr
                      f"{len(comparison.differences) + len(result.lost)} way(s)", err=True)
         for note in result.notes:
             echo(clean(f"note: {note}"), err=True)
+        for warning in dict.fromkeys(WARNINGS):
+            echo(clean(f"note: MuJoCo warned: {warning}"), err=True)
     ctx.exit(0 if verified else 1)

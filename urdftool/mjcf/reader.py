@@ -148,13 +148,30 @@ def referenced(path: Path, roots) -> tuple[list[str], dict[tuple[str, str], Loc]
     return reading.files, reading.locs
 
 
+WARNINGS: list[str] = []  # what MuJoCo warned while compiling (never its MUJOCO_LOG.TXT)
+
+
+def compiled(mujoco, path: Path | None = None, text: str | None = None):
+    """``MjModel.from_xml_path`` (or ``from_xml_string``) with MuJoCo's warnings kept in
+    ``WARNINGS``: its default handler prints them and appends them to MUJOCO_LOG.TXT in the
+    current directory, a file no urdftool command may write."""
+    previous = mujoco.get_mju_user_warning()
+    mujoco.set_mju_user_warning(lambda message: WARNINGS.append(" ".join(str(message).split())))
+    try:
+        if path is not None:
+            return mujoco.MjModel.from_xml_path(str(path))
+        return mujoco.MjModel.from_xml_string(text)
+    finally:
+        mujoco.set_mju_user_warning(previous)
+
+
 def compile_model(path: Path, roots):
     """(mujoco.MjModel, files read, locations) of a checked MJCF file. A model MuJoCo refuses
     is a ToolError with MuJoCo's own message."""
     mujoco = require("mujoco", "mjcf")
     files, locs = referenced(path, roots)
     try:
-        model = mujoco.MjModel.from_xml_path(str(path))
+        model = compiled(mujoco, path)
     except (ValueError, RuntimeError) as exc:
         message = " ".join(str(exc).split())
         raise ToolError(f"{path}: MuJoCo cannot load it: {message}") from None
