@@ -13,7 +13,7 @@ from conftest import run_urdftool
 from urdftool.limits import limits_data
 from urdftool.loader import load
 from urdftool.model import build_robot
-from urdftool.ranges import composed, image, mimic_chain, mimic_image
+from urdftool.ranges import chain_joints, composed, image, mimic_chain, mimic_image
 
 ROOT = Path(__file__).resolve().parent.parent
 OPEN_MANIPULATOR = ROOT / "robots" / "open_manipulator"
@@ -48,7 +48,8 @@ def test_chain_and_composed(write):
                     '<mimic joint="finger" multiplier="2" offset="0.5"/></joint>\n</robot>')
     robot = _robot(write, text)
     chain = mimic_chain(robot, robot.joint("tip"))
-    assert [j.name for j in chain.joints] == ["tip", "finger", "arm"] and chain.end == "root"
+    assert [j.name for j in chain_joints(robot, chain)] == ["tip", "finger", "arm"]
+    assert chain.end == "root" and chain.length == 3
     multiplier, offset = composed(chain)
     # tip = 2*(-0.01*arm + 0.0001) + 0.5
     assert multiplier == pytest.approx(-0.02) and offset == pytest.approx(0.5002)

@@ -89,6 +89,26 @@ def describe() -> str:
             f"{_files} file(s) found, and once for the run)")
 
 
+_paused = 0.0  # seconds spent in ``paused()`` blocks, in this process
+
+
+@contextlib.contextmanager
+def paused():
+    """A block whose time the rules' clock does not count (issue 28): reading a mesh for a
+    rule (its libraries' imports and parsing, bounded by the mesh reader's own size and time
+    limits), so that a cold mesh cache on a loaded machine is not a rule out of time."""
+    global _paused
+    started = time.monotonic()
+    try:
+        yield
+    finally:
+        _paused += time.monotonic() - started
+
+
+def paused_total() -> float:
+    return _paused
+
+
 def _interruptible(frame, inside: tuple[str, ...]) -> bool:
     """Whether the code running (``frame``) may be interrupted: its file's path holds one of
     ``inside`` (any code when empty), and no import is under way."""
@@ -103,10 +123,11 @@ def _interruptible(frame, inside: tuple[str, ...]) -> bool:
 
 
 @contextlib.contextmanager
-def watchdog(seconds: float | None, make_exception, inside: tuple[str, ...] = ()):
+def watchdog(seconds: float | None, make_exception, inside: tuple[str, ...] = (), due=None):
     """Run the block with ``make_exception()`` raised in it after ``seconds`` (then every
     REPEAT seconds until it ends), only while code whose file's path holds one of ``inside``
-    runs (a library's own loops, not the caller's bookkeeping). Only in the main thread of a process with interval timers
+    runs (a library's own loops, not the caller's bookkeeping), and, with ``due``, only once
+    ``due()`` says the time is really out (a clock that leaves time out: ``paused``). Only in the main thread of a process with interval timers
     (elsewhere the block runs unwatched: its own counting bounds it); a watchdog inside
     another keeps the outer one's timer."""
     import signal
@@ -116,7 +137,7 @@ def watchdog(seconds: float | None, make_exception, inside: tuple[str, ...] = ()
         yield
         return
     if threading.current_thread() is not threading.main_thread():
-        with _thread_watchdog(seconds, make_exception, inside):
+        with _thread_watchdog(seconds, make_exception, inside, due):
             yield
         return
     try:
@@ -131,7 +152,7 @@ def watchdog(seconds: float | None, make_exception, inside: tuple[str, ...] = ()
     def interrupt(signum, frame):
         # only inside the watched code, never in an import (a module left half-initialised
         # breaks every later run of the process): the timer fires again REPEAT seconds later
-        if not armed[0] or not _interruptible(frame, inside):
+        if not armed[0] or not _interruptible(frame, inside) or (due is not None and not due()):
             return
         raise make_exception()
 
@@ -158,7 +179,7 @@ _WATCHED: set[int] = set()  # threads (idents) under a thread watchdog: an inner
 
 
 @contextlib.contextmanager
-def _thread_watchdog(seconds: float, make_exception, inside: tuple[str, ...]):
+def _thread_watchdog(seconds: float, make_exception, inside: tuple[str, ...], due=None):
     """``watchdog`` in a thread other than the main one: a timer thread raises an exception
     of ``make_exception()``'s type and message in this thread (``PyThreadState_SetAsyncExc``,
     CPython), only while this thread runs ``inside`` code outside an import, then every
@@ -192,7 +213,7 @@ def _thread_watchdog(seconds: float, make_exception, inside: tuple[str, ...]):
 
     def frame_ok() -> bool:
         frame = sys._current_frames().get(target)
-        return frame is not None and _interruptible(frame, inside)
+        return frame is not None and _interruptible(frame, inside) and (due is None or due())
 
     def run() -> None:
         wait = max(seconds, 0.001)

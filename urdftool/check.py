@@ -107,16 +107,9 @@ def check_once(path: Path | str, options: CheckOptions, load_options=None):
     rules_module.UNSAFE_EDITS = options.unsafe_edits
     select = options.select or options.config.select
     ignore = options.ignore + options.config.ignore
-    diagnostics: list[Diagnostic] = []
-    for rule, severity in _enabled(select, ignore, options.config.severity):
-        try:
-            findings = list(rule.check(robot))
-        except Exception as exc:  # a rule must never take the whole run down
-            if options.debug:
-                raise
-            findings = [Finding(f"internal error in rule {rule.id}: {exception_text(exc)}",
-                                None, severity="warning")]
-        diagnostics.extend(_diagnostic(rule, severity, f, source.path) for f in findings)
+    ran = rules_module.run(robot, _enabled(select, ignore, options.config.severity),
+                           (load_options or options.load).timeout, options.debug)
+    diagnostics = [_diagnostic(r.rule, r.severity, r.finding, source.path) for r in ran]
     if any(rule in REFUSING_RULES for rule, _ in source.problems):
         diagnostics = _without_refused(diagnostics, source)
     return source, robot, diagnostics

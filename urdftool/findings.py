@@ -33,3 +33,17 @@ class Finding(NamedTuple):
     hint: str | None = None
     severity: str | None = None
     edits: tuple = ()
+
+
+def enclosing(index: dict, element: str | None):
+    """The value ``index`` (element path -> value) holds for ``element`` or for the nearest
+    element path that contains it (``/robot/joint[3]`` for ``/robot/joint[3]/limit``), or None:
+    one lookup per level of ``element``, never a walk over the index (issue 28)."""
+    while element:
+        found = index.get(element)
+        if found is not None:
+            return found
+        if "/" not in element:
+            return None
+        element = element.rsplit("/", 1)[0]
+    return None

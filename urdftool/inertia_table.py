@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 
+from urdftool.findings import enclosing
 from urdftool.physics import inertia as phys
 from urdftool.physics import links as analysis
 
@@ -28,35 +29,27 @@ def _finite(value):
 
 def _findings(robot) -> list[tuple[str, str, object]]:
     """(rule id, severity, Finding) of the inertia and mesh rules."""
-    from urdftool.rules import load_all
+    from urdftool.rules import load_all, run
 
-    found = []
-    for rule in load_all().values():
-        if rule.family not in FAMILIES:
-            continue
-        for finding in rule.check(robot):
-            found.append((rule.id, finding.severity or rule.severity, finding))
-    return found
+    enabled = [(r, r.severity) for r in load_all().values() if r.family in FAMILIES]
+    return [(rule.id, finding.severity or severity, finding)
+            for rule, severity, finding in run(robot, enabled)]
 
 
-def _owner(links, loc) -> int | None:
-    """The index of the link whose element holds ``loc``."""
-    if loc is None or loc.element is None:
-        return None
-    for index, link in enumerate(links):
-        element = link.loc.element if link.loc is not None else None
-        if element and (loc.element == element or loc.element.startswith(element + "/")):
-            return index
-    return None
+def _owners(links) -> dict[str, int]:
+    """Element path -> index of the link written there."""
+    return {link.loc.element: index for index, link in enumerate(links)
+            if link.loc is not None and link.loc.element}
 
 
 def inertia_data(robot, link: str | None = None, density: float | None = None) -> dict:
     """The table of ``urdftool inertia`` (all links, or the one named ``link``)."""
     results = analysis.analyse(robot)
     by_link: dict[int, list[dict]] = {}
+    owners = _owners(robot.links)
     for rule_id, severity, finding in _findings(robot):
-        index = _owner(robot.links, finding.loc)
         loc = finding.loc
+        index = enclosing(owners, loc.element if loc is not None else None)
         by_link.setdefault(index if index is not None else -1, []).append({
             "rule": rule_id, "severity": severity, "message": finding.message,
             "hint": finding.hint, "path": loc.path if loc else None,

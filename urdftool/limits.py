@@ -7,6 +7,7 @@ rules about it.
 import math
 from typing import NamedTuple
 
+from urdftool.findings import enclosing
 from urdftool.model import Robot
 from urdftool.ranges import LIMITED_TYPES, mimic_image
 
@@ -50,29 +51,22 @@ def _finite(value: float | None) -> float | None:
 def _findings_by_joint(robot: Robot, families=("joint", "mimic")) -> dict[str, list[dict]]:
     """Run the rules of ``families`` and file each finding under the joint it is about (the
     finding's element path lies inside the joint's)."""
-    from urdftool.rules import load_all
+    from urdftool.rules import load_all, run
 
     paths = {j.loc.element: j for j in robot.joints if j.loc is not None and j.loc.element}
     result: dict[str, list[dict]] = {}
-    for rule in load_all().values():
-        if rule.family not in families:
+    enabled = [(r, r.severity) for r in load_all().values() if r.family in families]
+    for rule, severity, finding in run(robot, enabled):
+        if finding.message.startswith("internal error in rule"):
+            continue  # `check` reports a broken rule; the table goes on
+        joint = enclosing(paths, finding.loc.element if finding.loc is not None else None)
+        if joint is None:
             continue
-        try:
-            findings = list(rule.check(robot))
-        except Exception:  # noqa: BLE001, S112 - `check` reports a broken rule; the table goes on
-            continue
-        for finding in findings:
-            element = finding.loc.element if finding.loc is not None else None
-            if not element:
-                continue
-            for path, joint in paths.items():
-                if element == path or element.startswith(path + "/"):
-                    result.setdefault(joint.loc.element, []).append(
-                        {"rule": rule.id, "severity": finding.severity or rule.severity,
-                         "message": finding.message, "hint": finding.hint,
-                         "path": finding.loc.path, "line": finding.loc.line,
-                         "column": finding.loc.column})
-                    break
+        result.setdefault(joint.loc.element, []).append(
+            {"rule": rule.id, "severity": finding.severity or severity,
+             "message": finding.message, "hint": finding.hint,
+             "path": finding.loc.path, "line": finding.loc.line,
+             "column": finding.loc.column})
     return result
 
 

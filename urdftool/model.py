@@ -164,7 +164,7 @@ class Robot:
     duplicates included; ``link``/``joint`` look one up by name (first definition wins)."""
 
     __slots__ = ("_children", "_elements", "_joint_index", "_link_index", "_parents", "joints",
-                 "links", "materials", "name", "root", "source")
+                 "links", "materials", "memo", "name", "root", "source")
 
     def __init__(self, name: str | None, links: tuple[Link, ...], joints: tuple[Joint, ...],
                  materials: tuple[Material, ...], source: "Source", root: Any = None):
@@ -179,6 +179,9 @@ class Robot:
         self._children: dict[str | None, list[Joint]] | None = None
         self._link_index: dict[str, Link] = {}
         self._joint_index: dict[str, Joint] = {}
+        # what analyses derive from the whole robot once, for every rule (issue 28: mimic
+        # chains, rigid bodies): key -> value, owned by the analysis that fills it
+        self.memo: dict = {}
         for link in links:
             if link.name is not None:
                 self._link_index.setdefault(link.name, link)

@@ -18,53 +18,128 @@ LIMITED_TYPES = ("revolute", "prismatic")
 
 
 class Chain(NamedTuple):
-    """Where following a joint's mimic leads: the joints followed in order, and how it ends."""
+    """Where following a joint's mimic leads (``mimic_chain``): how the walk ends, its length
+    and its last joint; the joints in between are found by following the leaders
+    (``chain_path``). Every joint's chain is found in one walk over the robot (issue 28: a walk
+    per joint was quadratic in a long chain)."""
 
-    joints: tuple[Joint, ...]  # the follower first, then each leader in turn
+    follower: Joint
     end: str  # "root" (last joint is not a mimic), "missing", "self", "cycle", "unparsed"
+    length: int  # joints followed, the follower and the last one included
+    last: Joint  # the root, the joint whose leader is missing/unparsed/itself, or in a cycle
     missing: str | None = None  # the name that is not a joint, when end == "missing"
+    composed: tuple[float, float] | None = None  # (multiplier, offset) relative to the root
+    cycle: tuple[Joint, ...] = ()  # end == "cycle": the joints of the cycle, from its entry
 
     @property
     def root(self) -> Joint | None:
-        return self.joints[-1] if self.end == "root" else None
+        return self.last if self.end == "root" else None
+
+
+def _leader(robot: Robot, joint: Joint) -> Joint | None:
+    mimic = joint.mimic
+    return robot.joint(mimic.joint) if mimic is not None and mimic.joint is not None else None
+
+
+def mimic_chains(robot: Robot) -> dict[int, Chain]:
+    """id(joint) -> its Chain, for every joint with a ``<mimic>``: found once per robot
+    (``Robot.memo``), each joint visited once."""
+    found = robot.memo.get("mimic_chains")
+    if found is not None:
+        return found
+    chains: dict[int, Chain] = {}
+    for start in robot.joints:
+        if start.mimic is None or id(start) in chains:
+            continue
+        path: list[Joint] = []  # followed from start, none of them known yet
+        on_path: dict[int, int] = {}
+        current = start
+        while True:
+            if id(current) in chains:
+                tail = chains[id(current)]
+                break
+            if current.mimic is None:  # the root: a chain of one
+                tail = Chain(current, "root", 1, current, composed=(1.0, 0.0))
+                break
+            on_path[id(current)] = len(path)
+            path.append(current)
+            name = current.mimic.joint
+            leader = _leader(robot, current)
+            if name is None:
+                tail = Chain(current, "unparsed", 1, current)
+                path.pop()
+                break
+            if leader is None:
+                tail = Chain(current, "missing", 1, current, missing=name)
+                path.pop()
+                break
+            if leader is current:
+                tail = Chain(current, "self", 1, current)
+                path.pop()
+                break
+            if id(leader) in on_path:  # a cycle: its members from leader's place on
+                members = tuple(path[on_path[id(leader)]:])
+                for member in members:
+                    chains[id(member)] = Chain(member, "cycle", len(members) + 1, leader,
+                                               cycle=members)
+                del path[on_path[id(leader)]:]
+                tail = chains[id(leader)]  # the lead-in joints lead to the cycle's entry
+                break
+            current = leader
+        chains.setdefault(id(tail.follower), tail)
+        for joint in reversed(path):  # each one leads into the chain after it
+            chains[id(joint)] = tail = _extended(joint, tail)
+    robot.memo["mimic_chains"] = chains
+    return chains
+
+
+def _extended(joint: Joint, tail: Chain) -> Chain:
+    """The chain of ``joint``, whose leader's chain is ``tail``."""
+    composed = None
+    mimic = joint.mimic
+    if tail.composed is not None and mimic is not None and mimic.multiplier is not None \
+            and mimic.offset is not None:
+        # follower = m1 * (m2 * (... root ...) + o2) + o1
+        multiplier, offset = tail.composed
+        composed = (mimic.multiplier * multiplier, mimic.multiplier * offset + mimic.offset)
+    return Chain(joint, tail.end, tail.length + 1, tail.last, tail.missing, composed,
+                 tail.cycle)
 
 
 def mimic_chain(robot: Robot, joint: Joint) -> Chain:
-    """Follow ``joint``'s mimic leaders until a joint that mimics nothing."""
-    joints = [joint]
-    seen = {id(joint)}
-    current = joint
-    while current.mimic is not None:
-        name = current.mimic.joint
-        if name is None:
-            return Chain(tuple(joints), "unparsed")
-        leader = robot.joint(name)
-        if leader is None:
-            return Chain(tuple(joints), "missing", name)
-        if leader is current:
-            return Chain(tuple(joints), "self")
-        if id(leader) in seen:
-            joints.append(leader)
-            return Chain(tuple(joints), "cycle")
-        joints.append(leader)
-        seen.add(id(leader))
-        current = leader
-    return Chain(tuple(joints), "root")
+    """Where following ``joint``'s mimic leaders leads (a joint without a mimic: itself)."""
+    if joint.mimic is None:
+        return Chain(joint, "root", 1, joint, composed=(1.0, 0.0))
+    return mimic_chains(robot)[id(joint)]
+
+
+def chain_joints(robot: Robot, chain: Chain) -> tuple[Joint, ...]:
+    """Every joint of ``chain``, the follower first (a walk of the chain's length)."""
+    joints, current = [chain.follower], chain.follower
+    while len(joints) < chain.length:
+        current = _leader(robot, current) or current
+        joints.append(current)
+    return tuple(joints)
+
+
+def chain_path(robot: Robot, chain: Chain, most: int = 6) -> str:
+    """The chain's joints as ``'a' -> 'b' -> ...``: at most ``most`` names (the first ones and
+    the last), the number of the others said."""
+    names, current = [], chain.follower
+    while len(names) < min(chain.length, most - 1):
+        names.append(f"'{current.name}'")
+        current = _leader(robot, current) or current
+    if chain.length > most:
+        names.append(f"... ({chain.length - most} more)")
+    if chain.length >= most:
+        names.append(f"'{chain.last.name}'")
+    return " -> ".join(names)
 
 
 def composed(chain: Chain) -> tuple[float, float] | None:
     """(multiplier, offset) of the follower relative to the chain's root, or None when the chain
     does not end at a root or a value did not parse."""
-    if chain.end != "root":
-        return None
-    multiplier, offset = 1.0, 0.0
-    # follower = m1 * (m2 * (... root ...) + o2) + o1: fold from the root outwards
-    for joint in reversed(chain.joints[:-1]):
-        mimic = joint.mimic
-        if mimic is None or mimic.multiplier is None or mimic.offset is None:
-            return None
-        multiplier, offset = mimic.multiplier * multiplier, mimic.multiplier * offset + mimic.offset
-    return multiplier, offset
+    return chain.composed if chain.end == "root" else None
 
 
 def joint_range(joint: Joint) -> tuple[float, float] | None:

@@ -537,6 +537,13 @@ class RigidBodies:
             if joint.parent is not None:
                 self.children.setdefault(joint.parent, []).append(joint)
         self._subtree: dict[str, float] | None = None  # link -> subtree mass, made once
+        # per body, made once (issue 28): link -> its body's root, root -> members, ...
+        self._body_roots: dict[str, str] = {}
+        self._body_members: dict[str, list] = {}
+        self._member_index: dict[str, dict] = {}
+        self._aggregates: dict[tuple, tuple | None] = {}
+        self._static: dict[str, bool] = {}
+        self._last_set: tuple = (None, frozenset())
         self.mass = {}
         for link in robot.links:
             m = link.inertial.mass if link.inertial is not None else None
@@ -584,24 +591,35 @@ class RigidBodies:
         return totals
 
     def body_root(self, name: str) -> str:
-        """The link a fixed-joint chain from ``name`` leads up to: the body it is lumped into."""
-        seen = {name}
+        """The link a fixed-joint chain from ``name`` leads up to: the body it is lumped into.
+        Found once for every link on the way (issue 28: a walk per link was quadratic in a
+        long fixed chain); in a loop of fixed joints, the link where the first walk closed it."""
+        known = self._body_roots.get(name)
+        if known is not None:
+            return known
+        path, seen = [name], {name}
         joint = self.parent.get(name)
         while joint is not None and not joint.moving and joint.parent is not None \
                 and joint.parent not in seen:
             name = joint.parent
+            known = self._body_roots.get(name)
+            if known is not None:
+                break
+            path.append(name)
             seen.add(name)
             joint = self.parent.get(name)
-        return name
+        root = known if known is not None else name
+        for member in path:
+            self._body_roots[member] = root
+        return root
 
-    def merged(self, name: str, point_masses: set | frozenset = frozenset()) -> MergedBody | None:
-        """The body that link ``name`` is lumped into (its fixed-joint group), as Gazebo's URDF
-        reader, Drake and MuJoCo (``fusestatic``) build it: total mass, centre of mass and
-        inertia about it in the group root's frame (parallel-axis theorem). ``point_masses``:
-        links whose own tensors are left out (their masses kept at their COMs). None when
-        nothing in the group has a usable mass or a pose is not finite."""
-        root = self.body_root(name)
-        members = []  # (mass, com, tensor about the member's COM), root frame
+    def _members(self, root: str) -> list[tuple[str, float, Vec3, Mat3]]:
+        """(link, mass, COM, tensor about its COM) of every link with mass in the body of
+        ``root``, in the root's frame: walked once per body."""
+        found = self._body_members.get(root)
+        if found is not None:
+            return found
+        members = []
         stack = [(root, phys.IDENTITY, phys.ZERO3)]
         seen = {root}
         while stack:
@@ -612,10 +630,10 @@ class RigidBodies:
             if inertial is not None and m > 0:
                 frame = phys.rpy_matrix(inertial.origin.rpy)
                 com = phys.add(position, phys.mat_vec(rotation, inertial.origin.xyz))
-                tensor = inertial.tensor if link_name not in point_masses else None
+                tensor = inertial.tensor
                 tensor = (phys.rotate_tensor(phys.mat_mul(rotation, frame), tensor)
                           if tensor is not None else phys.ZERO33)
-                members.append((m, com, tensor))
+                members.append((link_name, m, com, tensor))
             for joint in self.children.get(link_name, []):
                 if joint.moving or joint.child is None or joint.child in seen:
                     continue
@@ -623,17 +641,65 @@ class RigidBodies:
                 stack.append((joint.child,
                               phys.mat_mul(rotation, phys.rpy_matrix(joint.origin.rpy)),
                               phys.add(position, phys.mat_vec(rotation, joint.origin.xyz))))
-        total = sum(m for m, _, _ in members)
-        if total <= 0 or not math.isfinite(total):
-            return None
-        com = tuple(sum(m * c[k] for m, c, _ in members) / total for k in range(3))
-        tensor = phys.ZERO33
-        for m, c, t in members:
-            tensor = phys.mat_add(tensor, phys.parallel_axis(t, m, phys.sub(c, com)))
+        self._body_members[root] = members
+        return members
+
+    def _aggregate(self, root: str, point_masses) -> tuple | None:
+        """(links, total mass, COM, summed tensor, parallel-axis part) of ``root``'s body with
+        the tensors of ``point_masses`` left out, once per body and set of point masses."""
+        key = (root, point_masses if isinstance(point_masses, frozenset)
+               else self._frozen(point_masses))
+        if key in self._aggregates:
+            return self._aggregates[key]
+        members = self._members(root)
+        total = sum(m for _, m, _, _ in members)
+        result = None
+        if total > 0 and math.isfinite(total):
+            com = tuple(sum(m * c[k] for _, m, c, _ in members) / total for k in range(3))
+            tensors, shift = phys.ZERO33, phys.ZERO33
+            for name, m, c, t in members:
+                if name not in key[1]:
+                    tensors = phys.mat_add(tensors, t)
+                shift = phys.mat_add(shift, phys.parallel_axis(phys.ZERO33, m, phys.sub(c, com)))
+            result = (len(members), total, com, tensors, shift)
+        self._aggregates[key] = result
+        return result
+
+    def _frozen(self, names) -> frozenset:
+        """``names`` as a frozenset, made once for the same set object asked again (a rule
+        passes one set for every link)."""
+        if self._last_set[0] is not names:
+            self._last_set = (names, frozenset(names))
+        return self._last_set[1]
+
+    def _body(self, root: str, aggregate: tuple, extra: Mat3 | None = None,
+              less: Mat3 | None = None) -> MergedBody | None:
+        links, total, com, tensors, shift = aggregate
+        if extra is not None:
+            tensors = phys.mat_add(tensors, extra)
+        if less is not None:
+            tensors = phys.mat_add(tensors, phys.mat_scale(less, -1.0))
+        tensor = phys.mat_add(tensors, shift)
         if not all(math.isfinite(x) for row in tensor for x in row + com):
             return None
-        return MergedBody(root, len(members), total, com, tensor,
-                          phys.principal_moments(tensor))
+        return MergedBody(root, links, total, com, tensor, phys.principal_moments(tensor))
+
+    def merged(self, name: str, point_masses: set | frozenset = frozenset()) -> MergedBody | None:
+        """The body that link ``name`` is lumped into (its fixed-joint group), as Gazebo's URDF
+        reader, Drake and MuJoCo (``fusestatic``) build it: total mass, centre of mass and
+        inertia about it in the group root's frame (parallel-axis theorem). ``point_masses``:
+        links whose own tensors are left out (their masses kept at their COMs). None when
+        nothing in the group has a usable mass or a pose is not finite."""
+        root = self.body_root(name)
+        aggregate = self._aggregate(root, point_masses)
+        return None if aggregate is None else self._body(root, aggregate)
+
+    def _own_tensor(self, root: str, name: str) -> Mat3 | None:
+        """``name``'s tensor in its body (root frame), or None when it has no mass there."""
+        index = self._member_index.get(root)
+        if index is None:
+            index = self._member_index[root] = {n: t for n, _, _, t in self._members(root)}
+        return index.get(name)
 
     def tensor_effect(self, name: str, suspects: set | frozenset = frozenset()) -> TensorEffect | None:
         """How much link ``name``'s own inertia tensor changes the body it is lumped into:
@@ -641,11 +707,21 @@ class RigidBodies:
         declared and a point mass in its place (``math.inf`` when the body has no other
         rotational inertia; 0 for a body fixed to a root link called ``world``, which never
         moves). The other ``suspects`` (impossible tensors) are point masses in both, so that
-        one placeholder does not hide another. None when the link is a body on its own."""
-        others = set(suspects) - {name}
+        one placeholder does not hide another. None when the link is a body on its own.
+        The body with every suspect a point mass is summed once: this link's tensor is added
+        to it or taken from it (issue 28: a merge per link was quadratic)."""
         try:
-            with_tensor = self.merged(name, others)
-            without = self.merged(name, others | {name})
+            root = self.body_root(name)
+            aggregate = self._aggregate(root, suspects)
+            if aggregate is None:
+                return None
+            own = self._own_tensor(root, name)
+            if name in suspects:
+                without = self._body(root, aggregate)
+                with_tensor = self._body(root, aggregate, extra=own)
+            else:
+                with_tensor = self._body(root, aggregate)
+                without = self._body(root, aggregate, less=own)
         except (ArithmeticError, ValueError):  # an infinite angle (math.cos): no verdict
             return None
         if with_tensor is None or without is None:
@@ -664,16 +740,22 @@ class RigidBodies:
 
     def is_static_root(self, name: str) -> bool:
         """The link belongs to the root's rigid body and nothing in that body has mass:
-        PyBullet keeps such a body static (pybullet_data's tables and fixed bases)."""
+        PyBullet keeps such a body static (pybullet_data's tables and fixed bases). Found
+        once per body."""
         root = self.body_root(name)
         if root in self.parent:
             return False
-        for member in self._descendants(root, True):
-            link = self.robot.link(member)
-            inertial = link.inertial if link is not None else None
-            if inertial is not None and inertial.mass != 0:  # mass, a negative or unread one
-                return False
-        return True
+        known = self._static.get(root)
+        if known is None:
+            known = True
+            for member in self._descendants(root, True):
+                link = self.robot.link(member)
+                inertial = link.inertial if link is not None else None
+                if inertial is not None and inertial.mass != 0:  # mass, a negative or unread one
+                    known = False
+                    break
+            self._static[root] = known
+        return known
 
     def is_free_massless_base(self, name: str) -> bool:
         """A root link whose rigid body (it and what is fixed to it) has no mass, while joints

@@ -194,7 +194,10 @@ def load_mesh(path: Path | str, need_volume: bool = False) -> MeshInfo:
             files.note(key)
             info = _CACHE[key] = replace(known, path=key)
         else:
-            info = _CACHE[key] = _stored_or_load(Path(key), need_volume)
+            from urdftool import budget
+
+            with budget.paused():  # not the rules' time: the reader's own limits bound it
+                info = _CACHE[key] = _stored_or_load(Path(key), need_volume)
     return info
 
 

@@ -8,6 +8,7 @@ Adding a rule touches one file: its family's module.
 
 
 import importlib
+import time
 from collections.abc import Callable, Iterable
 from typing import NamedTuple
 
@@ -69,6 +70,7 @@ def source_rule(rule_id: str, severity: str, summary: str, **docs):
     def report_problems(robot: Robot) -> Iterable[Finding]:
         return robot.source.problems_for(rule_id)
 
+    report_problems.from_source = True  # ``run`` reports these first: they only list
     rule(rule_id, severity, summary, **docs)(report_problems)
 
 
@@ -96,34 +98,86 @@ def value_edits(robot: Robot, loc, names: tuple[str, ...], values: dict[str, str
     return ((), "; " + "; ".join(notes)) if notes else (tuple(edits), "")
 
 
-def did_you_mean(name: str, candidates) -> str | None:
+# candidate names a did-you-mean index compares in all (issue 28): a file of N unknown names
+# among N defined ones asked N x N comparisons; past this the index suggests nothing more
+COMPARISONS = 50_000
+
+
+class Names:
+    """Candidate names for did-you-mean (``did_you_mean``, ``close``), indexed once per rule
+    run: by the numbers they hold (a slip keeps its numbers) and by length (an edit distance is
+    at least the difference of lengths). Every query pays the candidates it compares out of
+    ``COMPARISONS``; a query that would pass it gets no suggestion (``exhausted`` then says so),
+    so that a rule's suggestions take linear time whatever the file holds."""
+
+    def __init__(self, names):
+        self.names = list(dict.fromkeys(n for n in names if n))
+        self.left = COMPARISONS
+        self.exhausted = False
+        self._groups: dict | None = None
+
+    def _pay(self, count: int) -> bool:
+        if count > self.left:
+            self.exhausted = True
+            return False
+        self.left -= count
+        return True
+
+    def did_you_mean(self, name: str, exclude=()) -> str | None:
+        import re
+
+        from rapidfuzz.distance import OSA  # only on error paths: keeps start-up lean
+
+        if self._groups is None:
+            self._groups = {}
+            for candidate in self.names:
+                key = tuple(re.findall(r"\d+", candidate))
+                self._groups.setdefault(key, {}).setdefault(len(candidate), []).append(candidate)
+        limit = min(max(2, len(name) // 8), (len(name) + 1) // 3)
+        by_length = self._groups.get(tuple(re.findall(r"\d+", name)), {})
+        pool = [c for size in range(len(name) - limit, len(name) + limit + 1)
+                for c in by_length.get(size, ())]
+        if not self._pay(len(pool)):
+            return None
+        best: list[str] = []
+        nearest = limit + 1
+        for candidate in pool:
+            if candidate == name or candidate in exclude:
+                continue
+            distance = OSA.distance(name, candidate, score_cutoff=nearest)
+            if distance < nearest:
+                best, nearest = [candidate], distance
+            elif distance == nearest and nearest <= limit:
+                best.append(candidate)
+        return best[0] if len(best) == 1 else None
+
+    def close(self, name: str, cutoff: float = 0.6) -> str | None:
+        """The closest name by ``difflib``'s ratio (at least ``cutoff``), counted as above."""
+        import difflib  # only on error paths: keeps start-up lean
+
+        if not self._pay(len(self.names)):
+            return None
+        found = difflib.get_close_matches(name, self.names, n=1, cutoff=cutoff)
+        return found[0] if found else None
+
+
+def did_you_mean(name: str, candidates, exclude=()) -> str | None:
     """The one candidate ``name`` is a slip of: the single nearest by edit distance (a letter
     dropped, added, changed or two swapped count one: rapidfuzz's OSA distance), at most two
     edits (one per eight letters in a longer name) and one per three letters; None when none is
     that near or two are equally near (``joint7`` among ``joint1``..``joint6``). A name whose
     numbers differ is another part, never a slip (``wrist1.dae`` is not ``wrist3.dae``, even
-    when it is the only file there: a fix would give one link another's mesh)."""
-    import re
-
-    from rapidfuzz.distance import OSA  # only on error paths: keeps start-up lean
-
-    limit = min(max(2, len(name) // 8), (len(name) + 1) // 3)
-    best: list[str] = []
-    nearest = limit + 1
-    numbers = re.findall(r"\d+", name)
-    for candidate in dict.fromkeys(candidates):
-        if not candidate or candidate == name or re.findall(r"\d+", candidate) != numbers:
-            continue
-        distance = OSA.distance(name, candidate, score_cutoff=nearest)
-        if distance < nearest:
-            best, nearest = [candidate], distance
-        elif distance == nearest and nearest <= limit:
-            best.append(candidate)
-    return best[0] if len(best) == 1 else None
+    when it is the only file there: a fix would give one link another's mesh). ``candidates``:
+    a ``Names`` (a rule asking for many names builds one) or any iterable of names;
+    ``exclude``: names never suggested (the asking joint's own)."""
+    if not isinstance(candidates, Names):
+        candidates = Names(candidates)
+    exclude = (exclude,) if isinstance(exclude, str) else exclude
+    return candidates.did_you_mean(name, exclude)
 
 
 def rename_edits(robot: Robot, loc, tag: str, attribute: str, name: str, candidates,
-                 joint_of_link: bool = False):
+                 joint_of_link: bool = False, exclude=()):
     """(edits, new name, note) naming in ``attribute`` of the ``<tag>`` at ``loc`` the one
     candidate ``name`` is a typo of (``did_you_mean``) or, with ``joint_of_link``, the joint
     that moves link ``name`` (``value_edits``: the note says why a computed value has no
@@ -132,7 +186,7 @@ def rename_edits(robot: Robot, loc, tag: str, attribute: str, name: str, candida
     if joint_of_link and robot.link(name) is not None:
         parent = robot.parent_joint(name)
         new = parent.name if parent is not None else None
-    new = new or did_you_mean(name, candidates)
+    new = new or did_you_mean(name, candidates, exclude)
     if new is None:
         return (), None, ""
     edits, note = value_edits(robot, loc, (tag,), {attribute: new})
@@ -172,6 +226,101 @@ def lost(robot: Robot, name: str | None) -> bool:
     if any(name == key or name.startswith(key + "::") for key in robot.source.lost):
         return True
     return robot.source.kind == "xacro" and include_failed(robot)
+
+
+class OutOfTime(BaseException):
+    """A rule ran past the time ``run`` gave the rules (a BaseException: a rule's own
+    ``except Exception`` does not swallow it)."""
+
+
+class Ran(NamedTuple):
+    """One finding of a rule run: the rule, its severity (configured or default), the finding."""
+
+    rule: Rule
+    severity: str
+    finding: Finding
+
+
+# where the rules' watchdog may stop a rule (besides the rule's own module): urdftool's own
+# analysis and the pure-Python libraries it calls (never a mesh library, the sandboxed reader's pipes or an import)
+WATCHED = ("/urdftool/rules/", "/urdftool/physics/links.py", "/urdftool/physics/inertia.py",
+           "/urdftool/limits.py", "/urdftool/kinematics/", "/urdftool/model.py",
+           "/urdftool/edits.py", "/urdftool/findings.py", "/difflib.py")
+
+# the rule whose finding says that the rules ran out of time (as a file left unread does)
+OUT_OF_TIME_RULE = "xacro.limit-exceeded"
+
+
+def run(robot: Robot, enabled: Iterable[tuple[Rule, str]], seconds: float | None = None,
+        debug: bool = False) -> list[Ran]:
+    """The one way to run rules (``check``, the language server through it, ``limits``,
+    ``inertia``): every rule of ``enabled`` ((rule, severity) pairs, in order) on ``robot``,
+    inside the run's time budget (issue 28): all of them together get what is left of the run
+    (``budget.remaining()``; without a run budget ``seconds``, the file's ``--timeout``, or
+    ``source.DEFAULT_TIMEOUT``), less the time meshes take to read for them
+    (``budget.paused``: the mesh reader's own limits bound it); a watchdog stops a rule that runs past it, only while the
+    analysis itself runs (``WATCHED``: never while a mesh is read by its library or the
+    sandboxed reader is waited on, which their own limits bound). A rule that runs out keeps the
+    findings it made and is ONE finding (``OUT_OF_TIME_RULE``, an error: the gate must not pass
+    what it did not check) naming it and the rules not run after it. A rule that raises is a
+    warning finding naming it (raised again with ``debug``); the other rules run."""
+    from urdftool import budget
+
+    limit = budget.remaining()
+    if limit is not None:
+        limit = max(limit, budget.MINIMUM)
+    elif seconds is not None:
+        limit = seconds
+    else:
+        from urdftool.source import DEFAULT_TIMEOUT
+
+        limit = DEFAULT_TIMEOUT
+    paused = budget.paused_total()
+    started = time.monotonic()
+
+    def left() -> float:  # the rules' own time left (a mesh read for them does not count)
+        return limit - (time.monotonic() - started) + (budget.paused_total() - paused)
+
+    # what reading found first (a list, made while reading): a run out of time still says it
+    enabled = sorted(enabled, key=lambda pair: not getattr(pair[0].check, "from_source", False))
+    found: list[Ran] = []
+    for index, (current, severity) in enumerate(enabled):
+        findings: list[Finding] = []
+        try:
+            if left() <= 0:
+                raise OutOfTime
+            own = getattr(getattr(current.check, "__code__", None), "co_filename", "")
+            with budget.watchdog(left(), OutOfTime, (*WATCHED, own) if own else WATCHED,
+                                 due=lambda: left() <= 0):
+                findings.extend(current.check(robot))  # (kept as made: an interrupt keeps them)
+        except OutOfTime:
+            found.extend(Ran(current, severity, f) for f in findings)
+            found.append(_out_of_time(robot, current, [r for r, _ in enabled[index + 1:]],
+                                      limit))
+            return found
+        except Exception as exc:  # a rule must never take the whole run down
+            if debug:
+                raise
+            from urdftool.errors import exception_text
+
+            findings.append(Finding(f"internal error in rule {current.id}: "
+                                    f"{exception_text(exc)}", None, severity="warning"))
+        found.extend(Ran(current, severity, f) for f in findings)
+    return found
+
+
+def _out_of_time(robot: Robot, late: Rule, rest: list[Rule], limit: float | None) -> Ran:
+    from urdftool.findings import Loc
+
+    rest_text = (f"the {len(rest)} rule(s) after it were not run ("
+                 + ", ".join(r.id for r in rest[:5]) + (", ..." if len(rest) > 5 else "") + ")"
+                 if rest else "every other rule was run")
+    message = (f"rule {late.id} ran out of time ({limit:g} s for the rules of this file); its "
+               f"findings so far are kept, {rest_text}")
+    limit_rule = REGISTRY.get(OUT_OF_TIME_RULE, late)
+    path = robot.source.path if robot.source is not None else None
+    return Ran(limit_rule, "error", Finding(message, Loc(path, None, None),
+                                            hint="raise --timeout, or split the file"))
 
 
 _loaded = False

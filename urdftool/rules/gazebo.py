@@ -12,7 +12,7 @@ import math
 
 from urdftool.findings import Finding
 from urdftool.model import Robot
-from urdftool.rules import lost, rename_edits, rule
+from urdftool.rules import Names, lost, rename_edits, rule
 
 # plugin parameters whose text names joints (comma-separated lists allowed, e.g. jointName)
 JOINT_PARAMS = frozenset({
@@ -74,19 +74,6 @@ def _named(robot: Robot, name: str) -> str:
     return name.replace("::", "__") if robot.source.kind == "sdf" else name
 
 
-def _suggest(name: str, candidates: list[str]) -> str | None:
-    key = (name, tuple(candidates))  # memoised: variants of a robot repeat the same misses
-    if key not in _SUGGESTED:
-        import difflib  # only on this error path: keeps start-up lean
-
-        close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
-        _SUGGESTED[key] = close[0] if close else None
-    return _SUGGESTED[key]
-
-
-_SUGGESTED: dict[tuple, str | None] = {}
-
-
 _BASE = ('<robot name="r">\n  <link name="base"/><link name="wheel"/>\n'
          '  <joint name="wheel_joint" type="continuous"><parent link="base"/>'
          '<child link="wheel"/>\n    <axis xyz="0 1 0"/><limit effort="1" velocity="1"/>'
@@ -101,8 +88,7 @@ _BASE = ('<robot name="r">\n  <link name="base"/><link name="wheel"/>\n'
       good=_BASE + '  <gazebo reference="wheel"><mu1>1.0</mu1></gazebo>\n</robot>',
       fix="safe")
 def unknown_reference(robot: Robot):
-    links = [link.name for link in robot.links if link.name]
-    joints = [joint.name for joint in robot.joints if joint.name]
+    names = Names([*(link.name for link in robot.links), *(joint.name for joint in robot.joints)])
     for block in robot.elements("gazebo"):
         reference = block.get("reference")
         if reference is None:
@@ -111,8 +97,8 @@ def unknown_reference(robot: Robot):
                 or lost(robot, reference):
             continue
         edits, close, note = rename_edits(robot, robot.loc(block), "gazebo", "reference",
-                                          reference, links + joints)
-        close = close or _suggest(reference, links + joints)
+                                          reference, names)
+        close = close or names.close(reference)
         yield Finding(f"<gazebo reference=\"{reference}\"> names no link or joint; Gazebo ignores "
                       "the block", robot.loc(block),
                       hint=(f"did you mean '{close}'?" if close else
@@ -128,7 +114,7 @@ def unknown_reference(robot: Robot):
       good=_BASE + '  <gazebo><plugin name="jsp" filename="libgazebo_ros_joint_state_publisher.so">'
                    '\n    <jointName>wheel_joint</jointName></plugin></gazebo>\n</robot>')
 def plugin_unknown_joint(robot: Robot):
-    joints = [joint.name for joint in robot.joints if joint.name]
+    joints = Names(joint.name for joint in robot.joints)
     for kind, name, node in plugin_references(robot):
         if kind != "joint" or robot.joint(_named(robot, name)) is not None or lost(robot, name):
             continue
@@ -139,7 +125,7 @@ def plugin_unknown_joint(robot: Robot):
                           hint=f"the joint that moves link '{name}' is '{parent.name}'"
                           if parent is not None and parent.name else "name a joint")
         else:
-            close = _suggest(name, joints)
+            close = joints.close(name)
             yield Finding(f"<{tag}> names '{name}', which is not a joint of the robot",
                           robot.loc(node),
                           hint=f"did you mean '{close}'?" if close else "name a joint")
@@ -157,7 +143,7 @@ def plugin_unknown_joint(robot: Robot):
       good=_BASE + '  <gazebo><plugin name="p3d" filename="libgazebo_ros_p3d.so">\n'
                    '    <bodyName>base</bodyName></plugin></gazebo>\n</robot>')
 def plugin_unknown_link(robot: Robot):
-    links = [link.name for link in robot.links if link.name]
+    links = Names(link.name for link in robot.links)
     for kind, name, node in plugin_references(robot):
         if kind != "link" or robot.link(_named(robot, name)) is not None or lost(robot, name):
             continue
@@ -168,7 +154,7 @@ def plugin_unknown_link(robot: Robot):
                           hint=f"its child link is '{joint.child}'" if joint.child else
                           "name a link")
         else:
-            close = _suggest(name, links)
+            close = links.close(name)
             yield Finding(f"<{tag}> names '{name}', which is not a link of the robot",
                           robot.loc(node),
                           hint=f"did you mean '{close}'?" if close else "name a link")
@@ -202,6 +188,8 @@ def gazebo_materials() -> frozenset[str]:
 def unknown_material(robot: Robot):
     known = gazebo_materials()
     lowered = {name.lower(): name for name in known}
+    suffixes = {known_name[len("Gazebo/"):]: known_name for known_name in known}
+    names = Names(sorted(suffixes))
     for block in robot.elements("gazebo"):
         for node in block.iter():
             if _local(node.tag) != "material" or not _text(node):
@@ -209,10 +197,9 @@ def unknown_material(robot: Robot):
             name = _text(node)
             if not name.startswith("Gazebo/") or name in known:
                 continue
-            suffixes = {known_name[len("Gazebo/"):]: known_name for known_name in known}
             close = lowered.get(name.lower())
             if close is None:
-                match = _suggest(name[len("Gazebo/"):], sorted(suffixes))
+                match = names.close(name[len("Gazebo/"):])
                 close = suffixes[match] if match else None
             if close:
                 yield Finding(f"Gazebo material '{name}' does not exist; did you mean '{close}'?",

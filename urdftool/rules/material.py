@@ -15,7 +15,7 @@ import math
 
 from urdftool.findings import Finding
 from urdftool.model import Robot, parse_float
-from urdftool.rules import did_you_mean, rule, value_edits
+from urdftool.rules import Names, rule, value_edits
 
 
 def _child(element, tag: str):
@@ -104,6 +104,9 @@ def undefined(robot: Robot):
         name = material.get("name")
         if name is not None and _defines(material):
             later.setdefault(name, link.get("name") or "?")
+    # every name defined anywhere, indexed once (issue 28: a sorted copy per undefined name
+    # was quadratic)
+    candidates = Names([*defined, *later])
     for link, material in visuals:
         name = material.get("name")
         if name is None:
@@ -125,7 +128,7 @@ def undefined(robot: Robot):
                        "shown in the default colour")
             hint = (f'add <material name="{name}"><color rgba="R G B A"/></material> under '
                     "<robot>, or a <color> inside this <material>")
-            match = did_you_mean(name, sorted(defined - {None}))
+            match = candidates.did_you_mean(name)
             if match is not None:  # a typo of one defined material
                 message += f"; did you mean '{match}'?"
                 edits, note = value_edits(robot, robot.loc(material), ("material",),

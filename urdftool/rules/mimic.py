@@ -12,13 +12,16 @@ from __future__ import annotations
 
 from urdftool.findings import Finding
 from urdftool.model import Robot
-from urdftool.ranges import composed, mimic_chain, mimic_image, tolerance
-from urdftool.rules import rename_edits, rule, value_edits
+from urdftool.ranges import chain_path, composed, mimic_chain, mimic_image, tolerance
+from urdftool.rules import Names, rename_edits, rule, value_edits
 from urdftool.rules.joint import fmt, label
 
 _ROBOT = '<robot name="r"><link name="a"/><link name="b"/><link name="c"/><link name="d"/>\n'
 _LEADER = ('  <joint name="lead" type="revolute"><parent link="a"/><child link="b"/>\n'
            '    <limit lower="0" upper="1" effort="1" velocity="1"/></joint>\n')
+
+
+MOST_SHOWN = 6  # joints named in a message about a chain or a cycle (the others counted)
 
 
 def _example(follower: str) -> str:
@@ -44,7 +47,7 @@ def _interval(interval) -> str:
       good=_example(_follower('<mimic joint="lead"/>')),
       fix="safe")
 def unknown_joint(robot: Robot):
-    names = [j.name for j in robot.joints if j.name]
+    names = Names(j.name for j in robot.joints)
     for joint in robot.joints:
         mimic = joint.mimic
         if mimic is None:
@@ -57,7 +60,7 @@ def unknown_joint(robot: Robot):
             continue
         what = "a link, not a joint" if robot.link(mimic.joint) is not None else "not a joint"
         edits, new, note = rename_edits(robot, mimic.loc, "mimic", "joint", mimic.joint,
-                                        [n for n in names if n != joint.name], True)
+                                        names, True, exclude=joint.name)
         if new is None:
             hint = "name one of the robot's joints"
         elif robot.link(mimic.joint) is not None:
@@ -96,20 +99,22 @@ def mimic_self(robot: Robot):
       '    <limit lower="0" upper="1" effort="1" velocity="1"/><mimic joint="j1"/></joint>\n'
       '</robot>')
 def mimic_cycle(robot: Robot):
-    reported: set[frozenset] = set()
+    reported: set[int] = set()
     for joint in robot.joints:
         if joint.mimic is None:
             continue
         chain = mimic_chain(robot, joint)
         if chain.end != "cycle":
             continue
-        start = next(i for i, j in enumerate(chain.joints) if j is chain.joints[-1])
-        members = chain.joints[start:-1]
-        key = frozenset(id(j) for j in members)
+        members = chain.cycle
+        key = id(members)  # one tuple per cycle (limits.mimic_chains)
         if key in reported:
             continue
         reported.add(key)
-        loop = " -> ".join(f"'{j.name}'" for j in members) + f" -> '{members[0].name}'"
+        shown = [f"'{j.name}'" for j in members[:MOST_SHOWN]]
+        if len(members) > MOST_SHOWN:
+            shown.append(f"... ({len(members) - MOST_SHOWN} more)")
+        loop = " -> ".join(shown) + f" -> '{members[0].name}'"
         first = members[0]
         yield Finding(f"mimic cycle: {loop} (each follows the next); no joint leads",
                       first.mimic.loc if first.mimic else first.loc,
@@ -142,9 +147,9 @@ def chained(robot: Robot):
         if joint.mimic is None:
             continue
         chain = mimic_chain(robot, joint)
-        if len(chain.joints) < 3 or chain.end in ("self", "cycle"):
+        if chain.length < 3 or chain.end in ("self", "cycle"):
             continue
-        path = " -> ".join(f"'{j.name}'" for j in chain.joints)
+        path = chain_path(robot, chain, MOST_SHOWN)
         values = composed(chain)
         if chain.end == "root" and values is not None:
             multiplier, offset = values

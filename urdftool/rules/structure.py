@@ -14,7 +14,7 @@ import functools
 from collections.abc import Iterator
 
 from urdftool.findings import Finding
-from urdftool.rules import did_you_mean, lost, rule, value_edits
+from urdftool.rules import Names, did_you_mean, lost, rule, value_edits
 
 
 def _urdf_only(check):
@@ -166,13 +166,14 @@ The message suggests the closest defined link name.
 def missing_link(robot) -> Iterator[Finding]:
     names = _link_names(robot)
     known = set(names)
+    candidates = Names(names)
+    children = {j.child for j in robot.joints}
     for joint, element in _joint_elements(robot):
         for end, name in (("parent", joint.parent), ("child", joint.child)):
             if name is None or name in known or lost(robot, name):
                 continue
-            import difflib  # only on this error path: keeps start-up lean
-
-            match = difflib.get_close_matches(name, names, n=1, cutoff=0.6)
+            close = candidates.close(name)
+            match = [close] if close is not None else []
             message = f"joint '{joint.name}': {end} link '{name}' is not defined"
             loc = _end_loc(robot, joint, element, end)
             edits, note = (), ""
@@ -180,10 +181,10 @@ def missing_link(robot) -> Iterator[Finding]:
                 message += f"; did you mean '{match[0]}'?"
                 # the typo mended when it is one (did_you_mean), unless the link named then
                 # gets a second parent or closes a loop
-                new = did_you_mean(name, names)
+                new = did_you_mean(name, candidates)
                 if new == match[0] and (
                         new not in _below(robot, joint.child) if end == "parent"
-                        else new != joint.parent and all(j.child != new for j in robot.joints)):
+                        else new != joint.parent and new not in children):
                     edits, note = value_edits(robot, loc, (end,), {"link": new})
             if end == "parent" and joint.child in known:
                 below = sorted(_below(robot, joint.child) & known)
@@ -202,9 +203,11 @@ def _names(names: list[str], most: int = 3) -> str:
 
 def _below(robot, link: str | None) -> set:
     """``link`` and every link below it (through the joints' parent -> child)."""
-    children: dict = {}
-    for joint in robot.joints:
-        children.setdefault(joint.parent, []).append(joint.child)
+    children = robot.memo.get("child_links")
+    if children is None:  # made once per robot (issue 28: once per finding was quadratic)
+        children = robot.memo["child_links"] = {}
+        for joint in robot.joints:
+            children.setdefault(joint.parent, []).append(joint.child)
     found, pending = set(), [link]
     while pending:
         current = pending.pop()

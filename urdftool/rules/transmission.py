@@ -13,7 +13,7 @@ import math
 
 from urdftool.findings import Finding
 from urdftool.model import Robot
-from urdftool.rules import lost, rename_edits, rule
+from urdftool.rules import Names, lost, rename_edits, rule
 
 ROS1_INTERFACES = (
     "EffortJointInterface", "PositionJointInterface", "VelocityJointInterface",
@@ -74,6 +74,7 @@ def _transmission(joint: str = "j", interface: str = "hardware_interface/EffortJ
       good=_JOINT + _transmission(),
       fix="safe")
 def unknown_joint(robot: Robot):
+    joints = Names(j.name for j in robot.joints)
     for transmission in robot.elements("transmission"):
         for tag in ("joint", "passive_joint"):
             for node in _children(transmission, tag):
@@ -81,7 +82,7 @@ def unknown_joint(robot: Robot):
                 if name is None or robot.joint(name) is not None or lost(robot, name):
                     continue
                 edits, new, note = rename_edits(robot, robot.loc(node), tag, "name", name,
-                                                [j.name for j in robot.joints], True)
+                                                joints, True)
                 yield Finding(f"transmission '{transmission.get('name')}': <{tag}> '{name}' is "
                               "not a joint of the robot", robot.loc(node),
                               hint=_joint_hint(robot, name, new) + note, edits=edits)
@@ -200,13 +201,14 @@ def zero_reduction(robot: Robot):
                     '<state_interface name="position"/></joint>\n  </ros2_control>\n</robot>',
       fix="safe")
 def ros2_control_joint(robot: Robot):
+    joints = Names(j.name for j in robot.joints)
     for block in robot.elements("ros2_control"):
         for node in block.iter("joint"):
             name = node.get("name")
             if name is None or robot.joint(name) is not None or lost(robot, name):
                 continue
             edits, new, note = rename_edits(robot, robot.loc(node), "joint", "name", name,
-                                            [j.name for j in robot.joints], True)
+                                            joints, True)
             yield Finding(f"ros2_control '{block.get('name')}': joint '{name}' is not a joint of "
                           "the robot", robot.loc(node), hint=_joint_hint(robot, name, new) + note,
                           edits=edits)
