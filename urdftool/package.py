@@ -133,10 +133,7 @@ class Selection:
             if "/" not in pattern.rstrip("/") and not any(c in pattern for c in "[]\\"):
                 spec = self._specs[pattern] = ("name", pattern.rstrip("/"))
             else:
-                import pathspec
-
-                spec = self._specs[pattern] = ("glob", pathspec.GitIgnoreSpec.from_lines(
-                    [pattern]))
+                spec = self._specs[pattern] = ("glob", linear_spec([pattern]))
         return spec
 
     def ignored_by_git(self, path: Path, is_dir: bool, top: Path | None) -> bool:
@@ -175,9 +172,7 @@ class Selection:
             except OSError:
                 text = ""
             if text.strip():
-                import pathspec
-
-                spec = pathspec.GitIgnoreSpec.from_lines(text.splitlines())
+                spec = linear_spec(text.splitlines())
             self._gitignores[key] = spec
         return self._gitignores[key]
 
@@ -188,6 +183,20 @@ class Selection:
         """Warnings: the exclude patterns that matched nothing."""
         return [f"warning: {where} pattern {pattern!r} matches nothing"
                 for where, pattern in self._given if (where, pattern) not in self._matched]
+
+
+def linear_spec(lines: list[str]):
+    """gitignore-style ``lines`` (a ``.gitignore``, an ``exclude`` pattern: a repository's
+    text, untrusted) compiled to a matcher that takes linear time (issue 28.3): pathspec's
+    parsing, matched by RE2 automata (google-re2), never by Python's backtracking ``re``, in
+    which one 40-byte line with a few ``*`` and brackets ran for hours on a long file name."""
+    import pathspec
+
+    try:
+        return pathspec.GitIgnoreSpec.from_lines(lines, backend="re2")
+    except ImportError:  # never Python's backtracking matcher on a repository's patterns
+        raise ToolError("matching exclude and .gitignore patterns needs google-re2: "
+                        "pip install 'google-re2>=1.1,<2'") from None
 
 
 def _glob_matches(spec, path: Path, base: Path, is_dir: bool, pattern: str) -> bool:
