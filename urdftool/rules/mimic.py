@@ -107,7 +107,7 @@ def mimic_cycle(robot: Robot):
         if chain.end != "cycle":
             continue
         members = chain.cycle
-        key = id(members)  # one tuple per cycle (limits.mimic_chains)
+        key = id(members)  # one tuple per cycle (ranges.mimic_chains)
         if key in reported:
             continue
         reported.add(key)
