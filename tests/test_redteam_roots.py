@@ -287,3 +287,23 @@ def test_check_in_a_checkout_without_metadata_reads_nothing_of_the_enclosing_wor
         result = run_urdftool("check", mode, *args)
         assert SECRET not in result.out + result.err, result
         assert result.code == 1 and "xacro.error" in result.out, result
+
+
+def test_action_a_changed_link_brings_no_configuration(tmp_path):
+    """The configuration of a changed-files run is looked for above the first changed name:
+    a committed link to another checkout (named first) brought that checkout's
+    ``urdftool.toml`` (``ignore`` every family: the pull request's broken robot passed). A
+    link decides nothing: the configuration is the repository's own."""
+    other = _other_checkout(tmp_path)
+    (other / "urdftool.toml").write_text(
+        'ignore = ["xml", "schema", "structure", "joint", "geometry", "inertia"]\n')
+    repo = _team(tmp_path)
+    (repo / "a_link").symlink_to(other)
+    (repo / "robot_description" / "urdf" / "r.urdf.xacro").write_text(ROBOT.format(
+        kind="sideways"))
+    _git(repo, "add", "-A")
+    _git(repo, "commit", "-qm", "the pull request")
+    run = run_action(repo, {"changed-files": "true"}, {"base_ref": "main"})
+    [call] = [c for c in run.calls if c[:1] == ["check"]]
+    assert call[call.index("--") + 1] == "a_link", call  # the link is the first name
+    assert run.code == 1 and "schema.bad-value" in run.output, run.output

@@ -24,7 +24,7 @@ from typing import NamedTuple
 
 from urdftool.errors import ToolError
 from urdftool.files import read_regular
-from urdftool.roots import OutsideRepository, clamp, repository_for, resolved
+from urdftool.roots import OutsideRepository, clamp, repository_for
 
 _SEVERITIES = ("error", "warning", "info")
 
@@ -65,8 +65,11 @@ def find_config(start: Path, memo: dict | None = None) -> tuple[Path, dict] | No
     """The nearest configuration above ``start``: (its file, its table). ``memo`` (directory ->
     what it holds) spares reading the same directories again during one run."""
     memo = memo if memo is not None else {}
-    name = resolved(start)
-    directory = name if os.path.isdir(name) else os.path.dirname(name)
+    # looked for where ``start`` is written, not where a link leads: a link (a changed name,
+    # a directory the pull request replaced by a link to another checkout) decides nothing
+    name = os.path.abspath(start)
+    directory = name if os.path.isdir(name) and not os.path.islink(name) else \
+        os.path.dirname(name)
     while True:
         found = memo.get(directory)
         if found is None:

@@ -109,7 +109,7 @@ def typed_root(path, working: Path | None) -> Path | None:
       the directory (``roots.tracked``), else the directory itself (a checkout without
       metadata in it), or nothing when a link on the way leads elsewhere (repository content);
     - elsewhere: its own repository, the directory given, a file's package or its directory
-      (``roots.repository_for``), version-control roots looked for without following links."""
+      (``roots.repository_for``: version-control roots looked for without following links)."""
     absolute = os.path.abspath(os.fspath(path))
     link = os.path.islink(absolute)
     directory = absolute if os.path.isdir(absolute) and not link else os.path.dirname(absolute)
@@ -118,7 +118,7 @@ def typed_root(path, working: Path | None) -> Path | None:
         if tracked(working, Path(directory)):
             return working
         return Path(directory) if real(directory) == directory else None
-    return repository_for(directory if link and os.path.isdir(absolute) else absolute)
+    return repository_for(absolute)
 
 
 def _repositories(paths, working: Path | None) -> list:

@@ -257,7 +257,9 @@ def repository_for(path) -> Path:
     ``package.xml``, not above the directory's enclosing work tree) or the file's own
     directory. (Sibling packages outside it come from the operator: ROS_PACKAGE_PATH.)"""
     absolute = Path(os.path.abspath(os.fspath(path)))
-    directory = absolute if os.path.isdir(absolute) else absolute.parent
+    # a link decides nothing: its own place's directory, never where it leads
+    link = os.path.islink(absolute)
+    directory = absolute if os.path.isdir(absolute) and not link else absolute.parent
     found = own_repository(directory)
     if found is not None:
         return found
