@@ -34,6 +34,7 @@ from urdftool.report import FileReport
 from urdftool.roots import is_file, real, resolved
 from urdftool.source import _INCLUDE, ROBOT_SUFFIXES, shown_path
 from urdftool.textscan import without_comments
+from urdftool.uris import find_parts
 
 # what a file that only defines things holds at its top level, once expanded
 DEFINITION_TAGS = frozenset({"material", "gazebo", "ros2_control", "transmission",
@@ -981,8 +982,8 @@ def _include_candidates(spec: str, base: Path, by_name: dict[str, list[str]],
     ``rest`` under a folder named PKG, substitutions as wildcards within one path part,
     ``$(optenv X default)`` as its default, other names relative to the including file."""
     spec = _OPTENV.sub(lambda m: (m.group(1) or "").strip() or "*", spec.strip())
-    found = re.match(r"\$\(find\s+([^)\s$]+)\)/?(.*)", spec)
-    pattern = _SUBSTITUTION.sub("*", found.group(2) if found else spec)
+    found = find_parts(spec)
+    pattern = _SUBSTITUTION.sub("*", found[1] if found else spec)
     name = pattern.rsplit("/", 1)[-1]
     if not name or "$(" in pattern:
         return [], False
@@ -990,7 +991,7 @@ def _include_candidates(spec: str, base: Path, by_name: dict[str, list[str]],
         ([name] if name in by_name else [])
     candidates = [path for n in names for path in by_name[n]]
     if found:  # rest under the package: a folder of that name, or its package.xml says so
-        package, parts = found.group(1), [p for p in pattern.split("/") if p not in ("", ".")]
+        package, parts = found[0], [p for p in pattern.split("/") if p not in ("", ".")]
         result = [path for path in candidates if _tail_matches(path, parts) and (
             path.split("/")[-len(parts) - 1] == package or _package_name(Path(path)) == package)]
     else:

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from urdftool.files import read_regular_text
 from urdftool.roots import has_vcs_component, is_file
+from urdftool.uris import parse_uri
 
 _NAME_RE = re.compile(r"<name>\s*([^<\s]+)\s*</name>")
 
@@ -335,21 +336,20 @@ class PackageResolver:
         return found
 
     def _resolve_uri(self, uri: str, base_dir: Path) -> Path | None:
-        if uri.startswith("package://"):
+        parsed = parse_uri(uri)
+        if parsed.scheme == "package":
             # package:///NAME/... (three slashes) is seen in the wild and read by ROS tools
-            name, _, rest = uri[len("package://"):].lstrip("/").partition("/")
-            package = self.find(name) or self.by_directory(name, base_dir)
-            return package / rest if package is not None else None
-        if uri.startswith("model://"):  # a mesh of an included SDF model: the model paths
-            rest = uri[len("model://"):].lstrip("/")
-            candidates = [directory / rest for directory in self.model_paths]
+            package = self.find(parsed.name) or self.by_directory(parsed.name, base_dir)
+            return package / parsed.rest if package is not None else None
+        if parsed.scheme == "model":  # a mesh of an included SDF model: the model paths
+            candidates = [directory / parsed.named for directory in self.model_paths]
             for candidate in candidates:
                 if self.allows(candidate) and is_file(candidate):
                     return candidate
             return None
-        if uri.startswith("file://"):
-            return Path(uri[len("file://"):])
-        if "://" in uri:
+        if parsed.scheme == "file":
+            return Path(parsed.rest)
+        if parsed.scheme != "path":
             return None
         path = Path(uri)
         return path if path.is_absolute() else base_dir / path

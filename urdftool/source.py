@@ -24,6 +24,7 @@ from urdftool.findings import Finding, Loc
 from urdftool.packages import PackageResolver
 from urdftool.roots import has_vcs_component, repository_for, resolved
 from urdftool.textscan import declared_encoding, declared_utf8, without_comments
+from urdftool.uris import FIND
 from urdftool.xmlrepair import repair_and_parse, secure_parser
 
 ROBOT_SUFFIXES = (".urdf", ".xacro", ".sdf")
@@ -334,7 +335,6 @@ def _qualified_tag(element) -> str:
 
 # elements whose children are not URDF (an <include> in them is no xacro include)
 FOREIGN_BLOCKS = frozenset({"gazebo", "ros2_control", "transmission", "plugin", "sensor"})
-_FIND = re.compile(r"\$\(find\s+([^)\s]+)\)")
 MAX_UNREAD = 200
 
 
@@ -395,7 +395,7 @@ def _include_target(source: Source, spec: str, base: Path) -> Path | None:
         return str(directory)
 
     try:
-        path = Path(_FIND.sub(find, spec))
+        path = Path(FIND.sub(find, spec))
     except LookupError:
         return None
     path = Path(_real(path if path.is_absolute() else base / path))

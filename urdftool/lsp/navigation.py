@@ -23,6 +23,7 @@ from typing import NamedTuple
 from lsprotocol import types as lsp
 
 from urdftool.lsp.engine import resolved
+from urdftool.uris import find_parts
 
 _TAG = re.compile(r"<(/?)([\w:.-]+)")
 # (linear on any text, issue 21: a name starts where a run of name characters starts; a
@@ -478,7 +479,8 @@ def _included(view: View, tag: Tag) -> list[str]:
     """The files the check read that an include's filename names (``$(find pkg)/x`` or a
     relative path): matched by their trailing path, among the files read only."""
     spec = tag.attributes["filename"][0]
-    tail = re.sub(r"^\$\(find\s[^)]+\)/?", "", spec)
+    found = find_parts(spec)
+    tail = found[1] if found is not None else spec
     if "${" in tail or "$(" in tail:
         tail = Path(tail).name
     tail = tail.lstrip("./")

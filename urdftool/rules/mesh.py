@@ -14,6 +14,7 @@ from urdftool.findings import Finding
 from urdftool.packages import is_file
 from urdftool.physics import links as analysis
 from urdftool.rules import rule
+from urdftool.uris import parse_uri
 
 
 def _mesh_shapes(robot):
@@ -61,13 +62,14 @@ def unresolved(robot):
     groups: dict[tuple[str, str], list] = {}
     for a, info in _mesh_shapes(robot):
         uri = info.shape.geometry.filename.strip()
-        if uri.startswith("package:///"):
+        parsed = parse_uri(uri)
+        if parsed.scheme == "package" and parsed.empty_name:
             groups.setdefault(("empty", ""), []).append((a, info, uri))
         elif info.path is None:
-            scheme, _, rest = uri.partition("://")
-            if scheme == "model" and robot.source.kind == "sdf":
+            if parsed.scheme == "model" and robot.source.kind == "sdf":
                 continue  # the SDF reader's sdf.mesh-uri names it with the model paths
-            key = ("package", rest.partition("/")[0]) if scheme == "package" else ("other", scheme)
+            key = ("package", parsed.name) if parsed.scheme == "package" else \
+                ("other", parsed.scheme)
             groups.setdefault(key, []).append((a, info, uri))
     for (kind, name), meshes in groups.items():
         a, info, uri = meshes[0]
@@ -76,7 +78,7 @@ def unresolved(robot):
         if kind == "empty":
             yield Finding(f"{_what(a, info)} mesh {uri!r} has an empty package name{more}: "
                           "ROS's resource retriever rejects it", _loc(info),
-                          hint="write package://PACKAGE/" + uri[len("package:///"):])
+                          hint="write package://PACKAGE/" + parse_uri(uri).named)
         elif kind == "package":
             guess = _package_guess(robot, name)
             edits = ()

@@ -26,6 +26,7 @@ from urdftool.sdf.frames import WORLD, PoseGraph
 from urdftool.sdf.reader import Entity, Reader, Scope
 from urdftool.sdf.schema import JOINT_TYPES
 from urdftool.sdf.transforms import IDENTITY, Transform
+from urdftool.uris import parse_uri
 
 UNBOUNDED = 1e16  # SDF's own "no limit" (the default of <lower>/<upper> up to 1.9)
 DEFAULT_MASS = 1.0  # kg: SDFormat's mass of a link without <inertial> (inertia diag(1, 1, 1))
@@ -1052,11 +1053,12 @@ class Builder:
     def mesh_filename(self, uri: str, element) -> str:
         doc = self.reader.doc_of(element)
         base = doc.directory if doc is not None else Path.cwd()
-        if uri.startswith("package://"):
+        parsed = parse_uri(uri)
+        if parsed.scheme == "package":
             return uri
-        if uri.startswith("model://"):
+        if parsed.scheme == "model":
             rest = uri[len("model://"):]
-            model, _, inner = rest.partition("/")
+            model, inner = parsed.name, parsed.rest
             general = None
             for mapping in self.options.package_uris:
                 name, sep, prefix = mapping.partition("=")
@@ -1071,10 +1073,11 @@ class Builder:
                 self.unread_meshes.setdefault(f"model://{model}", []).append((uri, element))
                 return uri
             return self._relative(found)
-        if uri.startswith(("http://", "https://")):
+        if parsed.scheme in ("http", "https"):
             self.unread_meshes.setdefault("", []).append((uri, element))
             return uri
-        uri = uri.removeprefix("file://")
+        if parsed.scheme == "file":
+            uri = parsed.rest
         if os.path.isabs(uri):
             return uri  # kept as written, found or not
         if self.options.output_dir is None:

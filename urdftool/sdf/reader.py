@@ -22,6 +22,7 @@ from urdftool.findings import Finding, Loc
 from urdftool.sdf.schema import SPEC
 from urdftool.sdf.transforms import IDENTITY, Transform
 from urdftool.source import tag_position
+from urdftool.uris import parse_uri
 
 SUPPORTED = ((1, 4), (1, 5), (1, 6), (1, 7), (1, 8), (1, 9), (1, 10), (1, 11))
 OLD = ((1, 0), (1, 2), (1, 3))
@@ -588,7 +589,8 @@ class Reader:
 
     def resolve_uri(self, uri: str, base: Path) -> Path | None:
         """A model:// URI, file:// URI or path, to a file or directory on disk."""
-        if uri.startswith("model://"):
+        parsed = parse_uri(uri)
+        if parsed.scheme == "model":
             rest = uri[len("model://"):]
             for directory in self.search_dirs(base):
                 candidate = directory / rest
@@ -597,12 +599,12 @@ class Reader:
                 if self._allowed(candidate) and candidate.exists():
                     return candidate
             return None
-        if uri.startswith(("http://", "https://")):
+        if parsed.scheme in ("http", "https"):
             return None
-        uri = uri.removeprefix("file://")
-        if uri.startswith("package://"):
-            rest = uri[len("package://"):]
-            package, _, inner = rest.partition("/")
+        if parsed.scheme == "file":
+            uri, parsed = parsed.rest, parse_uri(parsed.rest)
+        if parsed.scheme == "package":
+            package, inner = parsed.name, parsed.rest
             resolver = self.source.resolver
             found = resolver.find(package) if resolver is not None else None
             if found is not None and not self._allowed(found / inner):

@@ -27,6 +27,7 @@ from urdftool.model import Loc, Robot, build_robot
 from urdftool.rules.inertia import is_kinematics_only
 from urdftool.sdf.transforms import Transform
 from urdftool.source import LoadOptions
+from urdftool.uris import parse_uri
 
 REVOLUTE = ("revolute", "continuous")
 CONTROLLED = ("revolute", "continuous", "prismatic")
@@ -248,7 +249,6 @@ def _first_problem(source, families: tuple[str, ...]) -> str | None:
 def _pybullet_search(relative: str, base_dir: Path, allows) -> Path | None:
     """Where PyBullet itself finds a relative mesh path (``package://`` dropped): next to the
     URDF or up to five folders above it, inside the run's roots (``allows``) only."""
-    relative = relative.lstrip("/")  # package:///NAME/... has an empty package name
     directory = base_dir
     for _ in range(6):
         candidate = directory / relative
@@ -272,9 +272,10 @@ def _lookup(filename: str, source) -> tuple[Path | None, str]:
     base_dir = source.base_dir
     resolved = source.resolver.resolve_uri(filename, base_dir) if source.resolver else None
     found = Path(resolved) if resolved is not None and Path(resolved).exists() else None
-    if found is None and filename.startswith("package://"):
-        found = _pybullet_search(filename[len("package://"):], base_dir, allows)
-    elif found is None and "://" not in filename and not Path(filename).is_absolute():
+    parsed = parse_uri(filename)
+    if found is None and parsed.scheme == "package":
+        found = _pybullet_search(parsed.named, base_dir, allows)
+    elif found is None and parsed.scheme == "path" and not Path(filename).is_absolute():
         found = _pybullet_search(filename, base_dir, allows)
     if found is None:
         return None, NOT_FOUND
