@@ -12,12 +12,11 @@ import json
 import math
 import xml.etree.ElementTree as ET
 
+import mujoco
 import numpy as np
 import pytest
 
 from tests.conftest import run_urdftool
-
-mujoco = pytest.importorskip("mujoco")
 
 # a massless base (welded to the world by MuJoCo's import: nothing to lose), a fixed link with
 # mass on a moving link (lumped by MuJoCo: kept), off-diagonal inertias, a continuous joint, a

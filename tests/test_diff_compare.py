@@ -9,13 +9,11 @@ import math
 import random
 
 import numpy as np
+import pinocchio as pin
 import pytest
 from lxml import etree
 
 from tests.conftest import run_urdftool
-
-pin = pytest.importorskip("pinocchio")
-
 
 # -- random robots ---------------------------------------------------------------------------
 

@@ -187,8 +187,8 @@ def test_bad_combinations():
 def test_q_outside_the_limits_is_computed_with_a_warning():
     # issue 14: q = 0 of a Panda (joint4 beyond its upper limit -0.0698) is a configuration
     # people ask for; the Jacobian is defined there: computed, checked against pinocchio, warned
-    pin = pytest.importorskip("pinocchio")
     import numpy as np
+    import pinocchio as pin
 
     result = run_urdftool("jacobian", PANDA, "--tip", "panda_link8", "--q", "0,0,0,0.5,0,0,0",
                           "--format", "json")

@@ -9,6 +9,7 @@ import json
 
 import numpy as np
 import pytest
+import sympy as sp
 
 from tests.conftest import ROBOTS, example_robot_data_dir, run_urdftool
 from tests.test_kinematics_pinocchio import MIMIC, PRISMATIC_FIXED, _robot
@@ -16,8 +17,6 @@ from urdftool.cli import load_robot
 from urdftool.kinematics.chain import extract_chain
 from urdftool.kinematics.fk import forward
 from urdftool.kinematics.jacobian import geometric_jacobian
-
-sp = pytest.importorskip("sympy")
 from urdftool.kinematics.symbolic import symbolic_kinematics
 
 DUAL_ARM = ROBOTS / "dual_arm" / "corrected" / "test.xacro"

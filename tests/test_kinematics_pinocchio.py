@@ -15,6 +15,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 from tests.conftest import ROBOTS, example_robot_data_dir, pybullet_data_dir, run_urdftool
@@ -23,8 +24,6 @@ from urdftool.kinematics.chain import extract_chain
 from urdftool.kinematics.dh import extract_dh, self_check
 from urdftool.kinematics.fk import forward
 from urdftool.kinematics.jacobian import geometric_jacobian
-
-pin = pytest.importorskip("pinocchio")
 
 TOL = 1e-9
 SAMPLES = 50

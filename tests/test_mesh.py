@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import trimesh
 from scipy.spatial.transform import Rotation
 
 from tests.conftest import run_urdftool
@@ -20,8 +21,6 @@ from urdftool.loader import load
 from urdftool.model import build_robot
 from urdftool.physics import links, meshes
 from urdftool.source import LoadOptions
-
-trimesh = pytest.importorskip("trimesh")
 
 
 def box_formula(m, a, b, c):
@@ -230,7 +229,7 @@ def test_pybullet_agrees_on_primitive_inertia(write):
     """PyBullet (without URDF_USE_INERTIA_FROM_FILE) computes each link's inertia from its
     collision shape; for a box and a sphere that is the exact formula, an independent check of
     the geometry-derived tensor urdftool prints."""
-    pybullet = pytest.importorskip("pybullet")
+    import pybullet
     text = ('<robot name="r">'
             '<link name="base"><inertial><mass value="2"/><inertia ixx="1" ixy="0" ixz="0" '
             'iyy="1" iyz="0" izz="1"/></inertial><collision><geometry><box size="0.2 0.1 0.05"/>'

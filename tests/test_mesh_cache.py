@@ -12,12 +12,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import trimesh
 
 from tests.conftest import example_robot_urdfs, pybullet_urdfs, run_urdftool
 from urdftool import cache
 from urdftool.physics import links, meshes
 
-trimesh = pytest.importorskip("trimesh")
 # the sandboxed reader parses meshes within --timeout: on a loaded machine the default 3 s timed
 # them out (not cached: a transient error), which is not what these tests are about
 UNTRUSTED = ("--untrusted", "--timeout", "60")

@@ -3,13 +3,12 @@ repository, its dependencies on ROS_PACKAGE_PATH, no -P), ``--untrusted`` (what 
 implies) and ``--trusted`` give the same findings (rule, file, line), per entry and in package
 mode (``check DIR``); every entry that expands in one mode expands in the other.
 
-The fast sample runs always; ``URDFTOOL_PARITY_ALL=1`` runs every robot of
-``/work/shared/realworld-dev`` (bounded: a few minutes)."""
+The fast sample runs in ``make test``; CI (``slow``, ``make test-slow``) runs every robot of
+``shared/realworld-dev`` (about a minute of CPU)."""
 
 from __future__ import annotations
 
 import json
-import os
 import shutil
 import subprocess
 from pathlib import Path
@@ -120,8 +119,7 @@ def test_a_mesh_beside_the_file_without_package_xml(tmp_path, monkeypatch):
     assert not [f for f in untrusted if f[0] == "mesh.not-found"]
 
 
-@pytest.mark.skipif(not os.environ.get("URDFTOOL_PARITY_ALL"),
-                    reason="the whole realworld-dev corpus: URDFTOOL_PARITY_ALL=1")
+@pytest.mark.slow  # the whole realworld-dev corpus: about a minute of CPU, CI (make test-slow)
 def test_same_findings_on_every_realworld_robot(tmp_path, monkeypatch):
     manifest = json.loads((REALWORLD / "MANIFEST.json").read_text(encoding="utf-8"))
     differences = []

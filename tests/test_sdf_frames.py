@@ -9,11 +9,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 import pytest
 from conftest import run_urdftool
 from scipy.spatial.transform import Rotation
-
-pin = pytest.importorskip("pinocchio")
 
 DATA = Path(__file__).parent / "data" / "sdf"
 TOL = 1e-9  # closed form against pinocchio: both in double precision

@@ -22,12 +22,11 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pinocchio as pin  # the test extra has both oracles: a missing one fails
+import pybullet
 import pytest
 from conftest import pybullet_data_dir, run_urdftool
 from lxml import etree
-
-pin = pytest.importorskip("pinocchio")
-pybullet = pytest.importorskip("pybullet")
 
 TOLERANCE = 1e-6
 DATA = Path(__file__).parent / "data" / "sdf"
@@ -269,12 +268,42 @@ def compare_model(path: Path, model: str, tmp_path: Path, seed: int = 0) -> dict
         bullet.close()
 
 
-@pytest.mark.parametrize("path,model", pybullet_models(),
+# The pybullet_data SDF files PyBullet itself cannot load (pybullet 3.2.x, its own data): no
+# reference to compare with. Asserted, never skipped: test_pybullet_still_refuses_these fails
+# when one loads (then it joins the compared models). Their conversion is checked in
+# test_sdf_convert.py.
+UNLOADABLE = {
+    "gripper/wsg50_one_motor_gripper_free_base.sdf": "PyBullet crashes (segfault) on it",
+    "kuka_iiwa/kuka_world.sdf": "PyBullet: 'failed to parse link' (Cannot load SDF file)",
+    "kuka_iiwa/model2.sdf": "PyBullet: 'failed to parse link' (Cannot load SDF file)",
+}
+
+
+def _relative(path: Path) -> str:
+    return path.relative_to(pybullet_data_dir()).as_posix()
+
+
+COMPARED = [(path, model) for path, model in pybullet_models() if _relative(path) not in UNLOADABLE]
+
+
+def test_the_oracle_compares_most_models():
+    """How many of pybullet_data's SDF models are compared (issue 33: skips used to hide it)."""
+    every = pybullet_models()
+    assert {_relative(path) for path, _ in every} >= set(UNLOADABLE)
+    assert len(every) == 20 and len(COMPARED) == 16, (len(COMPARED), len(every))
+
+
+def test_pybullet_still_refuses_these():
+    for name, why in UNLOADABLE.items():
+        assert not loads_in_pybullet(pybullet_data_dir() / name), f"PyBullet now loads {name} " \
+            f"(listed: {why}): remove it from UNLOADABLE, the oracle compares it"
+
+
+@pytest.mark.parametrize("path,model", COMPARED,
                          ids=lambda v: v if isinstance(v, str) else v.name)
 def test_pybullet_data_sdf_against_pybullet(path, model, tmp_path):
-    if not loads_in_pybullet(path):
-        pytest.skip(f"PyBullet cannot load {path.name} (crash or missing mesh); "
-                    "its conversion is checked in test_sdf_convert.py")
+    assert loads_in_pybullet(path), f"PyBullet cannot load {_relative(path)}: list it in " \
+        "UNLOADABLE with the reason, or find what broke"
     worst = compare_model(path, model, tmp_path)
     assert worst["links"] >= 1
     for key in ("position", "angle", "mass", "com", "inertia"):

@@ -42,7 +42,8 @@ def findings(write, text, select=("inertia",)):
 
 
 def test_merged_body_matches_pinocchio(write):
-    pin = pytest.importorskip("pinocchio")
+    import pinocchio as pin
+
     from urdftool.loader import load
     from urdftool.model import build_robot
 
@@ -59,8 +60,8 @@ def test_merged_body_matches_pinocchio(write):
 
 
 def test_placeholder_on_a_fixed_sensor_is_a_warning_with_its_effect(write):
-    pin = pytest.importorskip("pinocchio")
     import numpy as np
+    import pinocchio as pin
 
     (rule, severity, message), = findings(write, robot_text())
     assert (rule, severity) == ("inertia.exceeds-geometry", "warning")
@@ -226,8 +227,8 @@ def test_merged_body_error_only_above_the_stated_fraction(write, moment):
     """issue 22.4: a placeholder on a fixed link changes the ~5.5 kg body it joins; urdftool
     calls that an error only above 10% (stated in the message), computed here with pinocchio,
     which lumps the fixed links into one body as Gazebo and Drake do."""
-    pin = pytest.importorskip("pinocchio")
     import numpy as np
+    import pinocchio as pin
 
     [(severity, message)] = [(s, m) for r, s, m in findings(write, robot_text(moment=moment))
                              if r == "inertia.exceeds-geometry"]

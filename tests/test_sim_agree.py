@@ -5,14 +5,13 @@ disables the pair (MoveIt's own SRDF for the Panda lists exactly the pairs found
 
 from __future__ import annotations
 
+import pybullet  # noqa: F401 - the test extra has it: missing, this fails
 import pytest
 
 from tests.conftest import example_robot_data_dir, pybullet_data_dir, pybullet_urdfs
 from tests.test_sim import arm
 from urdftool.sim import SimOptions
 from urdftool.sim.runner import simulate
-
-pytest.importorskip("pybullet")
 
 
 def mimic_lamp() -> str:

@@ -9,13 +9,12 @@ from __future__ import annotations
 
 import math
 
+import pybullet  # noqa: F401 - the test extra has it: missing, this fails
 import pytest
 
 from tests.conftest import example_robot_data_dir, pybullet_data_dir
 from urdftool.sim import SimOptions
 from urdftool.sim.runner import simulate
-
-pytest.importorskip("pybullet")
 
 GOOD_PYBULLET = [
     "r2d2.urdf",  # wheels, gripper, prismatic joints with limits
@@ -116,8 +115,8 @@ def test_baxter_cannot_hold_its_arms_out_with_its_shoulder_effort_limit(tmp_path
     # limited to 50 N·m. The gravity torque they need, computed here independently with
     # pinocchio's RNEA on the same file (base fixed, all joints zero), is above that: the real
     # robot has gravity-compensating springs the URDF does not model.
-    pinocchio = pytest.importorskip("pinocchio")
     import numpy as np
+    import pinocchio
 
     path = example_robot_data_dir() / "robots" / "baxter_description" / "urdf" / "baxter.urdf"
     model = pinocchio.buildModelFromUrdf(str(path))

@@ -9,11 +9,10 @@ from __future__ import annotations
 
 import json
 
+import pybullet  # noqa: F401 - the test extra has it: missing, this fails
 import pytest
 
 from tests.conftest import run_urdftool
-
-pytest.importorskip("pybullet")
 
 ARM = """<?xml version="1.0"?>
 <robot name="arm">

@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-import pytest
+import pybullet  # noqa: F401 - the test extra has it: missing, this fails
+from PIL import Image
 
 from tests.conftest import run_urdftool
 from tests.test_sim import arm
-
-pytest.importorskip("pybullet")
-Image = pytest.importorskip("PIL.Image")
 
 
 def _fraction(path, test) -> float:

@@ -9,13 +9,12 @@ from __future__ import annotations
 import re
 import shutil
 
+import pybullet  # noqa: F401 - the test extra has it: missing, this fails
 import pytest
 
 from tests.conftest import ROBOTS
 from urdftool.sim import SimOptions
 from urdftool.sim.runner import simulate
-
-pytest.importorskip("pybullet")
 
 
 @pytest.fixture(scope="module")
@@ -43,12 +42,11 @@ def test_corrected_seed_robots_pass(corrected):
     assert len(corrected) >= 6
     for result in corrected:
         assert result.verdict == "pass", (result.path, [c.message for c in result.failures()])
-        assert result.timing["total"] < 5
+        assert result.timing["cpu"] < 5  # CPU seconds: the machine's other load does not count
 
 
 def _expect(results, name):
-    if name not in results:
-        pytest.skip(f"robots/{name} not transcribed")
+    assert name in results, f"robots/{name} is committed: its result is missing"
     return results[name]
 
 

@@ -97,7 +97,7 @@ def test_library_logging_becomes_the_cause_not_stderr(tmp_path, monkeypatch):
 
 
 def _pybullet_mesh(name: str) -> Path:
-    pybullet_data = pytest.importorskip("pybullet_data")
+    import pybullet_data
     return Path(pybullet_data.getDataPath()) / name
 
 

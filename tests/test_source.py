@@ -136,7 +136,7 @@ def test_xpath_is_linear_on_a_wide_file():
 
     root = etree.fromstring("<robot>" + "<link/>" * 40_000 + "</robot>")
     source = Source("t.urdf", "urdf", root=root)
-    start = time.perf_counter()
+    start = time.process_time()  # CPU: the machine's other load does not count
     paths = [source.xpath(link) for link in root]
-    assert time.perf_counter() - start < 3.0
+    assert time.process_time() - start < 3.0
     assert paths[0] == "/robot/link[1]" and paths[-1] == "/robot/link[40000]"

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.conftest import run_urdftool
+from tests.conftest import WallLessWaiting, run_urdftool
 from tests.test_security import ESCAPES, HEAD
 
 XACRO_BIN = Path(sys.executable).parent / "xacro"
@@ -125,9 +125,10 @@ def test_attack_is_refused_by_every_command(kind, tmp_path, monkeypatch):
     monkeypatch.setenv("URDFTOOL_SECRET", SECRET)
     for command, extra in COMMANDS.items():
         for mode in ("--trusted", "--untrusted"):
-            before, started = _peak_rss_mb(), time.monotonic()
-            result = run_urdftool(command, mode, *extra, path)
-            elapsed = time.monotonic() - started
+            before = _peak_rss_mb()
+            with WallLessWaiting() as clock:  # wall time less the machine's other load
+                result = run_urdftool(command, mode, *extra, path)
+            elapsed = clock.seconds
             what = f"{kind}: urdftool {command} {mode}"
             assert not marker.exists(), f"{what} ran the payload"
             assert SECRET not in result.out + result.err, f"{what} leaked the secret"
@@ -150,9 +151,8 @@ def test_plain_xacro_is_exploitable(kind, tmp_path):
     path, marker = _write(tmp_path, kind)
     subprocess.run([str(XACRO_BIN), str(path)], capture_output=True, timeout=60,
                    cwd=path.parent, check=False)
-    if not marker.exists():
-        pytest.skip(f"this xacro no longer runs the {kind} payload")
-    assert marker.exists()
+    assert marker.exists(), f"plain xacro (xacro<3, pinned) no longer runs the {kind} payload: " \
+        "update this half"
 
 
 # -- denial of service: each stops within 4 s and 1 GB under --timeout 1 ----------------------
@@ -196,9 +196,10 @@ def test_denial_of_service_is_bounded(kind, tmp_path):
     path = tmp_path / "dos.urdf.xacro"
     text = DOS[kind] if DOS[kind].startswith("$") else f"${{{DOS[kind]}}}"
     path.write_text(HEAD + BRACES + f'  <link name="{text}"/>\n' + TAIL, encoding="utf-8")
-    before, started = _peak_rss_mb(), time.monotonic()
-    result = run_urdftool("check", "--format", "json", "--trusted", "--timeout", "1", path)
-    elapsed = time.monotonic() - started
+    before = _peak_rss_mb()
+    with WallLessWaiting() as clock:  # a --timeout is wall time: less the machine's load
+        result = run_urdftool("check", "--format", "json", "--trusted", "--timeout", "1", path)
+    elapsed = clock.seconds
     assert elapsed < 4, f"{kind} took {elapsed:.1f} s"
     assert _peak_rss_mb() - before < 1024, f"{kind}: {_peak_rss_mb() - before:.0f} MB"
     assert result.code == 1, result.err
@@ -214,9 +215,9 @@ def test_yaml_alias_bomb_is_refused(tmp_path, monkeypatch):
     path.write_text(HEAD + '  <link name="${python.len(python.str(xacro.load_yaml('
                     '\'bomb.yaml\')))}"/>\n' + TAIL, encoding="utf-8")
     monkeypatch.chdir(tmp_path)
-    started = time.monotonic()
-    result = run_urdftool("check", "--format", "json", "--trusted", "--timeout", "1", path)
-    assert time.monotonic() - started < 4
+    with WallLessWaiting() as clock:  # a --timeout is wall time: less the machine's load
+        result = run_urdftool("check", "--format", "json", "--trusted", "--timeout", "1", path)
+    assert clock.seconds < 4
     rules = {d["rule"] for f in json.loads(result.out)["files"] for d in f["diagnostics"]}
     assert "xacro.limit-exceeded" in rules, rules
 
@@ -286,11 +287,11 @@ def test_tokenize_never_backtracks():
 
     from urdftool.xacro_eval import Interpreter, UnsafeExpression
 
-    started = time.monotonic()
+    started = time.process_time()  # CPU: the machine's other load does not count
     with pytest.raises(UnsafeExpression, match="character class"):
         Interpreter().evaluate("xacro.tokenize('a' * 40, 'b]|(a+)+c|[b')",
                                xacro.Table(xacro._global_symbols))
-    assert time.monotonic() - started < 1
+    assert time.process_time() - started < 1
 
 
 PARITY_DOCUMENT = HEAD + """\

@@ -126,8 +126,7 @@ def test_macro_defined_in_a_never_included_file(write, tmp_path):
 
 def _smartcar(kind: str) -> Path:
     path = SMARTCAR / kind / "smartcar.urdf.xacro"
-    if not path.exists():
-        pytest.skip("robots/smartcar not transcribed yet")
+    assert path.is_file(), f"{path} is committed"
     return path
 
 

@@ -164,9 +164,9 @@ def test_damaged_robots_never_raise_hang_or_move_lines(seed):
     for path in sources:
         text = read_text(path)
         for damaged in _mutations(text, rng):
-            start = time.perf_counter()
+            start = time.process_time()  # CPU: the machine's other load does not count
             fixed, problems = repair(damaged, "x.urdf")
-            assert time.perf_counter() - start < 5
+            assert time.process_time() - start < 5
             assert fixed.count("\n") == damaged.count("\n")
             assert len(problems) <= xmlrepair.MAX_REPAIRS + 3
             for rule, finding in problems:
@@ -194,9 +194,9 @@ PATHOLOGICAL = {
 @pytest.mark.parametrize("name", PATHOLOGICAL)
 def test_pathological_inputs_return_quickly(name):
     text = PATHOLOGICAL[name]
-    start = time.perf_counter()
+    start = time.process_time()  # CPU: the machine's other load does not count
     fixed, problems = repair(text, "x.urdf")
-    assert time.perf_counter() - start < 10
+    assert time.process_time() - start < 10
     assert fixed.count("\n") == text.count("\n")
     assert problems and len(problems) <= xmlrepair.MAX_REPAIRS + 3
 
