@@ -8,13 +8,12 @@ from __future__ import annotations
 import json
 import xml.etree.ElementTree as ET
 
+import mujoco
 import numpy as np
 import pytest
 
 from tests.conftest import example_robot_data_dir, pybullet_data_dir, run_urdftool
 from tests.test_compare import ARM, body_inertia, mujoco_bodies, own_fk, own_inertial
-
-mujoco = pytest.importorskip("mujoco")
 
 
 def export(tmp_path, source, *extra):
@@ -111,7 +110,7 @@ REAL = [
 
 @pytest.mark.parametrize("where, name", REAL)
 def test_real_robots_export_verified_against_pinocchio(tmp_path, where, name):
-    pinocchio = pytest.importorskip("pinocchio")
+    import pinocchio
     base = pybullet_data_dir() if where == "pybullet" else example_robot_data_dir() / "robots"
     source = base / name
     packages = () if where == "pybullet" else ("-P", f"example-robot-data={example_robot_data_dir()}")
@@ -178,7 +177,7 @@ def test_mujoco_warnings_are_notes_not_a_log_file(tmp_path):
 
 def test_collada_meshes_are_converted_beside_the_output(tmp_path):
     """A COLLADA mesh (MuJoCo reads none) becomes an STL beside OUT, written by urdftool."""
-    trimesh = pytest.importorskip("trimesh")
+    import trimesh
     box = trimesh.creation.box((0.1, 0.2, 0.3))
     (tmp_path / "part.dae").write_bytes(box.export(file_type="dae"))
     text = ARM.replace('<collision><geometry><sphere radius="0.05"/></geometry></collision>',

@@ -570,8 +570,8 @@ def format_markdown(report: Report, show_info: bool = False,
     s = report.summary()
     order = {"error": 0, "warning": 1, "info": 2}
     verdict = "failed" if s["errors"] else "passed"
-    lines = [f"### urdftool check {verdict}: {s['errors']} error(s), {s['warnings']} "
-             f"warning(s), {s['infos']} info in {s['files']} file(s)", ""]
+    lines = [(f"### urdftool check {verdict}: {s['errors']} error(s), {s['warnings']} "
+              f"warning(s), {s['infos']} info in {s['files']} file(s)"), ""]
     counts = Counter((d.severity, d.rule) for d in report.diagnostics())
     if counts:
         lines += ["| severity | rule | findings |", "| --- | --- | ---: |"]
