@@ -456,3 +456,41 @@ def test_mjcf_include_outside_the_roots_is_refused(tmp_path):
                      '<worldbody/></mujoco>')
     result = run_urdftool("compare", str(model), str(model))
     assert result.code == 2 and "outside the repository" in result.err, result
+
+
+def test_xacro_with_arguments_and_sdf_on_either_side(tmp_path):
+    """xacro (NAME:=VALUE to both sides) and SDF are read through urdftool's loader; the xacro
+    side is located in the .xacro file."""
+    xacro = tmp_path / "arm.urdf.xacro"
+    xacro.write_text(ARM.replace('<robot name="arm">', '<robot name="arm" '
+                                 'xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+                                 '  <xacro:arg name="reach" default="0.3"/>').replace(
+        '<origin xyz="0.3 0 0"/>', '<origin xyz="$(arg reach) 0 0"/>'))
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text(ARM)
+    assert compare_json(xacro, urdf)["differences"] == []
+    data = compare_json(xacro, urdf, "reach:=0.35")
+    assert [(d["kind"], d["name"]) for d in data["differences"]] == [("pose", "link3")]
+    assert data["differences"][0]["path"] == str(xacro)
+    assert data["differences"][0]["max_error"] == pytest.approx(0.05)
+    sdf = tmp_path / "arm.sdf"
+    sdf.write_text("""<sdf version="1.9"><model name="arm">
+      <link name="base_link"/>
+      <link name="link1"><pose relative_to="j1"/>
+        <inertial><mass>1.5</mass><inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz></inertia></inertial>
+      </link>
+      <joint name="j1" type="revolute"><parent>base_link</parent><child>link1</child>
+        <pose relative_to="base_link">0 0 0.1 0 0 0</pose>
+        <axis><xyz>0 0 1</xyz><limit><lower>-2</lower><upper>2</upper></limit></axis></joint>
+    </model></sdf>""")
+    small = tmp_path / "small.urdf"
+    small.write_text("""<robot name="arm"><link name="base_link"/>
+      <link name="link1"><inertial><mass value="1.5"/>
+        <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+      <joint name="j1" type="revolute"><parent link="base_link"/><child link="link1"/>
+        <origin xyz="0 0 0.1"/><axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="1" velocity="1"/></joint>
+    </robot>""")
+    data = compare_json(small, sdf)
+    kinds = {(d["kind"], d["name"]) for d in data["differences"]}
+    assert ("pose", "link1") not in kinds and ("range", "j1") not in kinds
+    assert ("mass", "link1") not in kinds and ("inertia", "link1") not in kinds
