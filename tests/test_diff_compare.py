@@ -381,3 +381,22 @@ def test_a_material_redefined_and_a_visual_material_swapped(write):
     swapped = before.replace('<material name="steel"/>', '<material name="red"><color rgba="1 0 0 1"/></material>')
     found = {(c["element"], c["name"], c["aspect"]) for c in diff_json(write, before, swapped)}
     assert found == {("link", "base", "material"), ("material", "red", "added")}
+
+
+def test_two_directories_are_two_snapshots(write, tmp_path):
+    robot = random_robot(3)
+    write(text(robot), "old/urdf/arm.urdf")
+    changed = etree.fromstring(etree.tostring(robot))
+    changed.find("joint/limit").set("effort", "999")
+    write(text(changed), "new/urdf/arm.urdf")
+    write(text(random_robot(4)), "new/urdf/second.urdf")
+    result = run_urdftool("diff", tmp_path / "old", tmp_path / "new", "--format", "json",
+                          "--trusted", "--timeout", "120", "--exit-code")
+    assert result.code == 1, result.err  # something changed
+    import json
+
+    robots = {r["entry"]: r for r in json.loads(result.out)["robots"]}
+    assert {e: r["status"] for e, r in robots.items()} == {"urdf/arm.urdf": "changed",
+                                                         "urdf/second.urdf": "added"}
+    [change] = robots["urdf/arm.urdf"]["changes"]
+    assert (change["aspect"], change["after"]) == ("limit.effort", 999.0)
