@@ -254,32 +254,31 @@ OUT_OF_TIME_RULE = "xacro.limit-exceeded"
 def run(robot: Robot, enabled: Iterable[tuple[Rule, str]], seconds: float | None = None,
         debug: bool = False) -> list[Ran]:
     """The one way to run rules (``check``, the language server through it, ``limits``,
-    ``inertia``): every rule of ``enabled`` ((rule, severity) pairs, in order) on ``robot``,
-    inside the run's time budget (issue 28): all of them together get what is left of the run
-    (``budget.remaining()``; without a run budget ``seconds``, the file's ``--timeout``, or
-    ``source.DEFAULT_TIMEOUT``), less the time meshes take to read for them
-    (``budget.paused``: the mesh reader's own limits bound it); a watchdog stops a rule that runs past it, only while the
-    analysis itself runs (``WATCHED``: never while a mesh is read by its library or the
-    sandboxed reader is waited on, which their own limits bound). A rule that runs out keeps the
-    findings it made and is ONE finding (``OUT_OF_TIME_RULE``, an error: the gate must not pass
-    what it did not check) naming it and the rules not run after it. A rule that raises is a
-    warning finding naming it (raised again with ``debug``); the other rules run."""
+    ``inertia``): every rule of ``enabled`` ((rule, severity) pairs, in order; the rules
+    that list what reading found first) on ``robot``, inside a budget (issue 28): all of them
+    together get ``seconds`` (the file's ``--timeout``; ``source.DEFAULT_TIMEOUT`` when None)
+    of CPU time of the thread that runs them, less the time meshes take to read for them
+    (``budget.paused``: the mesh reader's own limits bound it). CPU time, not the wall clock:
+    a loaded machine (a CI runner, an editor's busy laptop) does not stop a rule that a quiet
+    one finishes, and a quadratic rule is stopped all the same. A watchdog stops a rule that
+    runs past it, only while the analysis itself runs (``WATCHED`` and the rule's own module:
+    never while a mesh is read by its library or the sandboxed reader is waited on). A rule
+    that runs out keeps the findings it made and is ONE finding (``OUT_OF_TIME_RULE``, an
+    error: the gate must not pass what it did not check) naming it and the rules not run
+    after it. A rule that raises is a warning finding naming it (raised again with
+    ``debug``); the other rules run."""
     from urdftool import budget
 
-    limit = budget.remaining()
-    if limit is not None:
-        limit = max(limit, budget.MINIMUM)
-    elif seconds is not None:
-        limit = seconds
-    else:
+    if seconds is None:
         from urdftool.source import DEFAULT_TIMEOUT
 
-        limit = DEFAULT_TIMEOUT
+        seconds = DEFAULT_TIMEOUT
+    limit = seconds
     paused = budget.paused_total()
-    started = time.monotonic()
+    started = time.thread_time()
 
-    def left() -> float:  # the rules' own time left (a mesh read for them does not count)
-        return limit - (time.monotonic() - started) + (budget.paused_total() - paused)
+    def left() -> float:  # the rules' own CPU time left (a mesh read for them does not count)
+        return limit - (time.thread_time() - started) + (budget.paused_total() - paused)
 
     # what reading found first (a list, made while reading): a run out of time still says it
     enabled = sorted(enabled, key=lambda pair: not getattr(pair[0].check, "from_source", False))
@@ -315,8 +314,8 @@ def _out_of_time(robot: Robot, late: Rule, rest: list[Rule], limit: float | None
     rest_text = (f"the {len(rest)} rule(s) after it were not run ("
                  + ", ".join(r.id for r in rest[:5]) + (", ..." if len(rest) > 5 else "") + ")"
                  if rest else "every other rule was run")
-    message = (f"rule {late.id} ran out of time ({limit:g} s for the rules of this file); its "
-               f"findings so far are kept, {rest_text}")
+    message = (f"rule {late.id} ran out of time ({limit:g} s of CPU for the rules of this "
+               f"file); its findings so far are kept, {rest_text}")
     limit_rule = REGISTRY.get(OUT_OF_TIME_RULE, late)
     path = robot.source.path if robot.source is not None else None
     return Ran(limit_rule, "error", Finding(message, Loc(path, None, None),
