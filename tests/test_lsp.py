@@ -252,8 +252,10 @@ async def test_hover_on_a_mimic_gives_the_image_of_the_leaders_range(client):
                        r'<limit [^>]*lower="\$\{-pi\}" upper="([^"]+)"', source, re.DOTALL)
     multiplier, offset = float(mimic.group(1)), float(mimic.group(2))
     ends = sorted(multiplier * v + offset for v in (-math.pi, float(leader.group(1))))
-    assert _numbers(text, "range [")[:2] == [-math.pi, float(leader.group(1))]
-    assert _numbers(text, "]:") == pytest.approx(ends, rel=1e-12)
+    # shown as the CLI's tables show numbers (6 significant digits, display.number)
+    assert _numbers(text, "range [")[:2] == [float(f"{v:.6g}") for v in
+                                             (-math.pi, float(leader.group(1)))]
+    assert _numbers(text, "]:") == [float(f"{v:.6g}") for v in ends]
     assert "inside its limits" in text
 
 

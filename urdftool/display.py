@@ -206,3 +206,11 @@ def diagnostic_line(path, line: int | None, column: int | None, severity: str, r
     styled = click.style(severity, fg=fg, bold=bold) + (
         " " + click.style(rule, dim=True) if rule else "")
     return f"{click.style(where, bold=True)}: {styled}: {message}"
+
+
+def number(value, digits: int = 6, missing: str = "-") -> str:
+    """A number as the human tables show it (``limits`` 6 significant digits, ``inertia``
+    4; JSON keeps every digit): the one display format of the CLI and the editor's hovers."""
+    if value is None:
+        return missing
+    return f"{value:.{digits}g}" if isinstance(value, float) else str(value)

@@ -73,6 +73,8 @@ def run_roots(paths, options: LoadOptions | None = None, environ=None, *, named:
     ``options.packages`` must be the operator's (-P), not a configuration's: call this before
     the configuration is merged (``check.check_paths``). Nothing read later widens them."""
     forget_resolved()  # a run starts: realpaths are asked again, changed meshes read again
+    if "urdftool.packages" in sys.modules:  # and packages looked for again (a new package.xml)
+        sys.modules["urdftool.packages"].forget()
     if "urdftool.physics.meshes" in sys.modules:  # (a run that read no mesh never imports it)
         sys.modules["urdftool.physics.meshes"].forget_changed()
     environ = os.environ if environ is None else environ

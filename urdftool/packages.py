@@ -163,6 +163,14 @@ def _start_directory(start: str) -> Path:
 _STARTS: dict[str, Path] = {}
 
 
+def forget() -> None:
+    """Drop what was found about packages (discovery, crawls, directory and URI lookups):
+    a run starts (``loader.run_roots``), and a ``package.xml`` added or removed since (the
+    language server runs for hours) is seen (issue 29)."""
+    for memo in (_REALPATHS, _DISCOVERED, _DIRECTORIES, _URIS, _CRAWLS, _STARTS):
+        memo.clear()
+
+
 class PackageResolver:
     """Finds package directories by name for one input file.
 

@@ -27,7 +27,9 @@ _ORDER = ("error", "warning", "info")
 
 
 def _num(value, digits: int = 4) -> str:
-    return "-" if value is None else f"{value:.{digits}g}"
+    from urdftool.display import number
+
+    return number(value, digits)
 
 
 def _triple(values) -> str:

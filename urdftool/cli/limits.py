@@ -21,9 +21,9 @@ from urdftool.cli import (
 
 
 def _num(value: float | None, digits: int = 6) -> str:
-    if value is None:
-        return "-"
-    return f"{value:.{digits}g}"
+    from urdftool.display import number
+
+    return number(value, digits)
 
 
 def _range(row: dict) -> str:

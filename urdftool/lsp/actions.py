@@ -7,6 +7,7 @@ reads the document; the document's changes only)."""
 from __future__ import annotations
 
 import copy
+import os
 import re
 
 from lsprotocol import types as lsp
@@ -52,6 +53,47 @@ def current(server, path: str) -> bool:
     return checked is not None and server.text_of(path) == checked
 
 
+def writable(server, path: str) -> bool:
+    """Whether the server may offer an edit of ``path`` (issue 28.8): what ``check --fix``'s
+    one writer (``urdftool.output``) would write, in the workspace: the file lies in a
+    workspace folder, as named and once resolved (not a link out of it), no symbolic link is
+    on the way to it below that folder (nor below its repository), nor is it one."""
+    from urdftool.errors import ToolError
+    from urdftool.output import check_target
+
+    absolute = os.path.abspath(path)
+    engine = server.engine
+    key = resolved(path)
+    # the workspace folders; without any (a client that names none), the package whose
+    # check read the file
+    folders = [str(f) for f in engine.folders] or [
+        str(unit.root) for unit in list(engine.units.values())
+        if any(r is not None and key in engine._reads(r) for r in unit.reports)]
+    if folders:
+        inside = [f for f in folders if _under(absolute, f)]
+        if not inside or not _under(os.path.realpath(absolute), inside[0]):
+            return False
+        # the workspace folder is the repository of an editor's edits: no link below it
+        # (as the one writer walks below a repository), whether or not it is under git
+        where = inside[0]
+        for part in os.path.relpath(absolute, where).split(os.sep):
+            where = os.path.join(where, part)
+            try:
+                if os.path.islink(where):
+                    return False
+            except OSError:
+                return False
+    try:
+        check_target(absolute, inputs=(absolute,), may_replace=(absolute,))
+    except (ToolError, OSError):
+        return False
+    return True
+
+
+def _under(path: str, folder: str) -> bool:
+    return path == folder or path.startswith(folder.rstrip(os.sep) + os.sep)
+
+
 def fix_action(server, diagnostic: lsp.Diagnostic, d) -> lsp.CodeAction | None:
     fix = d.fix
     if fix is None or not fix.edits:
@@ -60,6 +102,8 @@ def fix_action(server, diagnostic: lsp.Diagnostic, d) -> lsp.CodeAction | None:
     for path in dict.fromkeys(e.path for e in fix.edits):
         if not current(server, path):
             return None  # the text changed since: its check is on the way
+        if not writable(server, path):
+            return None  # check --fix would refuse to write it
         lines = server.text_of(path).split("\n")
         changes[server.uri_of(path)] = text_edits(
             server, lines, [e for e in fix.edits if e.path == path])
@@ -166,7 +210,7 @@ def register(server, guarded) -> None:
             fixes.sort(key=lambda a: not a.is_preferred)
             result += fixes + ignores
         path = ls.path_of(uri)
-        if path and asked(FIX_ALL) and any(
+        if path and asked(FIX_ALL) and writable(ls, path) and any(
                 d.fix is not None and d.fix.applicability == "safe" for _, d in shown) \
                 and current(ls, path):
             edits = await ls.run_in_worker(fix_all_edits, ls, path)

@@ -248,8 +248,16 @@ def _index(robot) -> dict[tuple[str, int], list]:
 # -- hover -----------------------------------------------------------------------------------
 
 
-def _number(value) -> str:
-    return "—" if value is None else repr(value) if isinstance(value, float) else str(value)
+def _number(value, digits: int = 6) -> str:
+    """As the CLI's tables show it (``display.number``: ``limits`` 6 significant digits)."""
+    from urdftool.display import number
+
+    return number(value, digits, "—")
+
+
+def _inertia_number(value) -> str:
+    """As ``urdftool inertia`` shows it (4 significant digits)."""
+    return _number(value, 4)
 
 
 def link_hover(robot, name: str) -> str | None:
@@ -268,21 +276,21 @@ def link_hover(robot, name: str) -> str | None:
     if inertial is None:
         lines.append("no `<inertial>`: massless for a simulator")
     elif row is not None:
-        lines.append(f"mass: {_number(row['mass'])} kg")
+        lines.append(f"mass: {_inertia_number(row['mass'])} kg")
         declared = row.get("declared")
         if declared:
             lines.append("declared inertia (kg·m²): " + ", ".join(
-                f"{k} {_number(v)}" for k, v in declared.items()))
+                f"{k} {_inertia_number(v)}" for k, v in declared.items()))
         geometry = row.get("geometry")
         if geometry and geometry.get("tensor"):
             lines.append(f"from the {geometry['from']} geometry at this mass: " + ", ".join(
-                f"{k} {_number(v)}" for k, v in geometry["tensor"].items()))
+                f"{k} {_inertia_number(v)}" for k, v in geometry["tensor"].items()))
         bound = row.get("bound")
         if bound:
             lines.append(f"largest moment the geometry allows about {bound['axis']}: "
-                         f"{_number(bound['bound'])} (mass × reach² = reach "
-                         f"{_number(bound['reach'])} m); declared {_number(bound['moment'])}, "
-                         f"ratio {_number(bound['ratio'])}")
+                         f"{_inertia_number(bound['bound'])} (mass × reach² = reach "
+                         f"{_inertia_number(bound['reach'])} m); declared {_inertia_number(bound['moment'])}, "
+                         f"ratio {_inertia_number(bound['ratio'])}")
     parent = robot.parent_joint(name)
     if parent is not None:
         lines.append(f"child of `{parent.parent}` through joint `{parent.name}` ({parent.type})")
@@ -557,8 +565,24 @@ def references(view: View, position: lsp.Position) -> list[lsp.Location] | None:
                         and e.get(a) == value for a in ("link", "joint", "reference")))]:
             loc = robot.source.loc(target)
             if loc.line is not None:
-                add(view.location(loc.path, loc.line - 1, (loc.column or 1) - 1))
+                named = "name" if target.get("name") == value else next(
+                    (a for a in ("link", "joint", "reference") if target.get(a) == value), "name")
+                add(_name_location(view, loc, target.tag, named, value))
     return found or None
+
+
+def _name_location(view: View, loc, tag: str, attribute: str, value: str) -> lsp.Location:
+    """The range of the name ``value`` written in ``attribute`` of the tag at ``loc`` (issue
+    29: references were zero-width); the tag's name when the value is not written there as
+    it is (a ``${...}`` expression, an attribute on another line)."""
+    line, column = loc.line - 1, (loc.column or 1) - 1
+    lines = (view.texts.get(resolved(loc.path)) or "").split("\n")
+    text = lines[line] if 0 <= line < len(lines) else ""
+    written = re.compile(rf"\b{re.escape(attribute)}\s*=\s*[\"']").search(text, column)
+    if written is not None and text.startswith(value, written.end()):
+        return view.location(loc.path, line, written.end(), written.end() + len(value))
+    start = column + 1 if text.startswith("<", column) else column
+    return view.location(loc.path, line, start, start + len(tag))
 
 
 # -- symbols and completion ------------------------------------------------------------------

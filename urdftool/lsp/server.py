@@ -23,11 +23,14 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from lsprotocol import types as lsp
+from pygls.exceptions import JsonRpcException
 from pygls.lsp.server import LanguageServer
+from pygls.protocol import LanguageServerProtocol
 from pygls.uris import from_fs_path, to_fs_path
 
 from urdftool import __version__
 from urdftool.lsp.engine import ERROR_RULE, Engine, Result, Settings, resolved
+from urdftool.source import DEFAULT_TIMEOUT
 
 SEVERITY = {"error": lsp.DiagnosticSeverity.Error, "warning": lsp.DiagnosticSeverity.Warning,
             "info": lsp.DiagnosticSeverity.Information}
@@ -35,8 +38,12 @@ SEVERITY = {"error": lsp.DiagnosticSeverity.Error, "warning": lsp.DiagnosticSeve
 UNNECESSARY = frozenset({"joint.fixed-with-axis", "schema.duplicate-element"})
 DEPRECATED = frozenset({"xacro.unprefixed-tag", "xacro.unprefixed-macro-call"})
 CHECK_COMMAND = "urdftool.check"
-# settings that widen what is read or seen: from the operator only in an untrusted workspace
-WIDENING = frozenset({"packages", "allowEnv"})
+# settings that widen what is read or seen, or where the server's links point: from the
+# operator only (launch arguments, initializationOptions) in an untrusted workspace
+WIDENING = frozenset({"packages", "allowEnv", "ruleDocsUrl"})
+# limits an untrusted workspace may only lower (issue 28.5): setting -> the operator's value
+# when none was given (``source.LoadOptions``' defaults)
+LIMITS = {"timeout": ("timeout", DEFAULT_TIMEOUT), "memoryLimit": ("memory_mb", 1024)}
 # seconds without a change before the checks put off (fragments an entry reads) are run
 PENDING_DELAY = 0.5
 # checks after which the garbage is collected even while changes keep coming
@@ -44,11 +51,28 @@ COLLECT_EVERY = 8
 _SITE = re.compile(r"^(.*):(\d+)$")
 
 
+class _Protocol(LanguageServerProtocol):
+    """pygls' protocol, answering every request: one whose parameters do not fit the
+    protocol's types (a negative line or character: ``uinteger``) was dropped unanswered, the
+    client waiting for ever (issue 28.8); it now gets the JSON-RPC error (Invalid Params).
+    The guard of every request before any handler (a position past the end is each
+    handler's: an empty answer)."""
+
+    def structure_message(self, data):
+        try:
+            return super().structure_message(data)
+        except JsonRpcException as exc:
+            if isinstance(data, dict) and "id" in data and "method" in data:
+                self._send_response(data["id"], error=exc.to_response_error())
+            raise
+
+
 class UrdfLanguageServer(LanguageServer):
     def __init__(self, settings: Settings | None = None):
-        super().__init__("urdftool", __version__,
+        super().__init__("urdftool", __version__, protocol_cls=_Protocol,
                          text_document_sync_kind=lsp.TextDocumentSyncKind.Incremental)
         self.launch_settings = settings or Settings()
+        self.operator_settings = self.launch_settings  # + initializationOptions
         self.engine = Engine(self.launch_settings)
         self.worker = ThreadPoolExecutor(1, thread_name_prefix="urdftool-check")
         self.changed: set[str] = set()  # paths changed since their last check
@@ -344,6 +368,29 @@ def workspace_folders(params: lsp.InitializeParams) -> list[Path]:
     return [Path(os.path.realpath(p)) for p in paths if p]
 
 
+def _untrusted_settings(ls: UrdfLanguageServer, data: dict) -> dict:
+    """What an untrusted workspace's settings may change (issue 28.5): nothing that widens
+    what is read or where links point (``WIDENING``: the operator's alone), and the limits
+    (``LIMITS``) only downwards from the operator's (a larger value is the operator's)."""
+    widening = sorted(set(data) & WIDENING)
+    if widening:
+        ls.log(f"urdftool: settings {', '.join(widening)} ignored: the workspace is "
+               "untrusted (give them as initializationOptions or on the command line)",
+               lsp.MessageType.Warning)
+    data = {k: v for k, v in data.items() if k not in WIDENING}
+    for key, (attribute, default) in LIMITS.items():
+        value = data.get(key)
+        if not isinstance(value, (int, float)) or isinstance(value, bool):
+            continue  # (a wrong type is refused by Settings.updated)
+        ceiling = getattr(ls.operator_settings, attribute)
+        ceiling = default if ceiling is None else ceiling
+        if not 0 < value <= ceiling:
+            ls.log(f"urdftool: setting {key} {value!r} ignored: an untrusted workspace may only "
+                   f"lower it (the operator's is {ceiling!r})", lsp.MessageType.Warning)
+            data[key] = ceiling
+    return data
+
+
 def make_server(settings: Settings | None = None) -> UrdfLanguageServer:
     from urdftool.lsp import actions, navigation
 
@@ -354,6 +401,7 @@ def make_server(settings: Settings | None = None) -> UrdfLanguageServer:
     def initialize(ls: UrdfLanguageServer, params: lsp.InitializeParams):
         settings, problems = ls.launch_settings.updated(params.initialization_options,
                                                         trust=True)
+        ls.operator_settings = settings  # the ceiling of what the workspace may set
         ls.engine.set_settings(settings)
         ls.engine.folders = workspace_folders(params)
         for problem in problems:
@@ -380,12 +428,7 @@ def make_server(settings: Settings | None = None) -> UrdfLanguageServer:
         if not isinstance(data, dict) or not data:
             return
         if not ls.engine.settings.trusted:  # a workspace's own settings (in the repository)
-            widening = sorted(set(data) & WIDENING)  # never widen what an untrusted one reads
-            if widening:
-                ls.log(f"urdftool: settings {', '.join(widening)} ignored: the workspace is "
-                       "untrusted (give them as initializationOptions or on the command line)",
-                       lsp.MessageType.Warning)
-                data = {k: v for k, v in data.items() if k not in WIDENING}
+            data = _untrusted_settings(ls, data)
         settings, problems = ls.engine.settings.updated(data)
         for problem in problems:
             ls.log(f"urdftool: settings: {problem}", lsp.MessageType.Warning)
@@ -413,6 +456,26 @@ def make_server(settings: Settings | None = None) -> UrdfLanguageServer:
     def did_save(ls: UrdfLanguageServer, params: lsp.DidSaveTextDocumentParams):
         path = ls.path_of(params.text_document.uri)
         if path is not None:
+            ls.engine.touched(resolved(path))  # saved unchanged: checked again all the same
+            ls.schedule(path, now=True)
+
+    @server.feature(lsp.WORKSPACE_DID_CHANGE_WATCHED_FILES)
+    @guarded
+    def did_change_watched_files(ls: UrdfLanguageServer, params):
+        """Files changed on disk (the client's watchers): a ``package.xml`` added or removed
+        changes what every unit resolves (issue 29: the lookups were kept for the life of
+        the server), so every unit plans and checks again; another file is a change of the
+        checks that read it."""
+        paths = [ls.path_of(change.uri) for change in params.changes]
+        paths = [p for p in paths if p is not None]
+        if any(os.path.basename(p) == "package.xml" for p in paths):
+            for unit in ls.engine.units.values():
+                unit.planned = False
+            for key in list(ls.uris):
+                ls.schedule(key, now=True)
+            return
+        for path in paths:
+            ls.engine.touched(resolved(path))
             ls.schedule(path, now=True)
 
     @server.feature(lsp.TEXT_DOCUMENT_DID_CLOSE)
