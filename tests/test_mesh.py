@@ -660,3 +660,24 @@ def test_library_exceptions_name_their_type_once():
         "DaeMalformedError: XML Parsing Error"
     assert exception_text(ValueError("bad\nsecond line")) == "ValueError: bad"
     assert exception_text(KeyError()) == "KeyError"
+
+
+def test_git_lfs_pointers_are_one_warning_not_unreadable_meshes(tmp_path):
+    """A clone that did not `git lfs pull` (actions/checkout's default) holds pointer files
+    where the meshes are: one mesh.not-checked warning for the robot naming them (the checkout
+    is at fault, not the description), never a mesh.unreadable error per mesh; both modes."""
+    pointer = ("version https://git-lfs.github.com/spec/v1\n"
+               "oid sha256:4d7a214614ab2935c943f9e0ff69d22eadbb8f32b1258daaa5e2ca24d17e2393\n"
+               "size 12345\n")
+    package = _arm_package(tmp_path, ["a.stl", "b.dae"])
+    (package / "meshes").mkdir()
+    for name in ("a.stl", "b.dae"):
+        (package / "meshes" / name).write_text(pointer)
+    for mode in ("--trusted", "--untrusted"):
+        result = run_urdftool("check", mode, "--format", "json", "--jobs", "1", str(package))
+        found = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+                 if d["rule"].startswith("mesh.")]
+        assert [(d["rule"], d["severity"]) for d in found] == [("mesh.not-checked", "warning")], \
+            (mode, found)
+        assert "'a.stl', 'b.dae'" in found[0]["message"] and "Git LFS" in found[0]["message"]
+        assert "git lfs pull" in found[0]["hint"]

@@ -61,6 +61,30 @@ def _missing(path: Path, exc: ImportError) -> MeshInfo:
     return MeshInfo(str(path), error=MISSING_LIBRARY + name)
 
 
+# a file Git LFS keeps as a pointer until `git lfs pull` (a clone without LFS, actions/checkout
+# without `lfs: true`): not the description's defect, and no tool of this checkout reads it
+LFS_POINTER = "a Git LFS pointer, not the mesh (the checkout did not pull it)"
+_LFS_HEAD = b"version https://git-lfs.github.com/spec/"
+
+
+def lfs_pointer(info) -> bool:
+    return (info.error or "").startswith(LFS_POINTER)
+
+
+def _is_lfs_pointer(path: Path) -> bool:
+    """Whether the regular file ``path`` is a Git LFS pointer (its first bytes say so)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    except OSError:
+        return False
+    try:
+        return os.read(fd, len(_LFS_HEAD)) == _LFS_HEAD
+    except OSError:
+        return False
+    finally:
+        os.close(fd)
+
+
 def timed_out(info) -> bool:
     """The reader was stopped at the time limit: the mesh is not checked, not unreadable."""
     error = info.error or ""
@@ -319,6 +343,8 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
         return MeshInfo(str(path), unsupported=True)
     if not is_file(path):
         return MeshInfo(str(path), error="no such file")
+    if _is_lfs_pointer(path):
+        return MeshInfo(str(path), error=LFS_POINTER)
     import numpy as np
 
     LOADS += 1

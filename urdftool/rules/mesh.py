@@ -344,12 +344,18 @@ def unreadable(robot):
     for a, info in _mesh_shapes(robot):
         mesh = info.mesh
         if mesh is not None and mesh.error is not None and not _timed_out(mesh) \
-                and info.problem != analysis.NO_LIBRARY:
+                and info.problem != analysis.NO_LIBRARY and not _lfs(mesh):
             from urdftool.physics.meshes import LENIENT  # loaded already: this mesh was read
 
             lenient = mesh.error.startswith(LENIENT)
             yield Finding(f"{_what(a, info)} mesh {info.path.name} cannot be read: "
                           f"{mesh.error}", _loc(info), severity="warning" if lenient else None)
+
+
+def _lfs(mesh) -> bool:
+    from urdftool.physics import meshes  # loaded already: this mesh was read
+
+    return meshes.lfs_pointer(mesh)
 
 
 def _timed_out(mesh) -> bool:
@@ -384,7 +390,9 @@ and says here, once per robot, which meshes and links were not checked: a warnin
 `--strict` fails a CI job whose environment lacks it (the other commands that need trimesh stop
 with exit code 2). A mesh in a format urdftool does not read (Ogre `.mesh`, VRML...) is advice:
 its link's inertia is not compared with its geometry. Meshes that do not resolve are
-`mesh.unresolved` and `mesh.not-found`.""",
+`mesh.unresolved` and `mesh.not-found`. Meshes that are Git LFS pointers (a clone that did not
+`git lfs pull`: actions/checkout's default) are one warning for the robot naming them, never
+`mesh.unreadable`: the description is not at fault, the checkout is.""",
       bad='<robot name="r"><link name="a"><visual><geometry>'
           '<mesh filename="package://urdftool/physics/examples/part.mesh"/>'
           '</geometry></visual></link></robot>',
@@ -392,12 +400,21 @@ its link's inertia is not compared with its geometry. Meshes that do not resolve
            '<box size="0.1 0.1 0.1"/></geometry></visual></link></robot>')
 def not_checked(robot):
     skipped: dict[str, list] = {}
-    slow = []
+    slow, pointers = [], []
     for a, info in _mesh_shapes(robot):
         if info.problem in (analysis.NO_TRIMESH, analysis.NO_LIBRARY, analysis.UNREAD_FORMAT):
             skipped.setdefault(info.problem, []).append((a, info))
         elif info.mesh is not None and _timed_out(info.mesh):
             slow.append((a, info))
+        elif info.mesh is not None and info.mesh.error is not None and _lfs(info.mesh):
+            pointers.append((a, info))
+    if pointers:  # one cause: the checkout (its meshes are fine where they were pulled)
+        files = list(dict.fromkeys(info.path.name for _, info in pointers))
+        links = list(dict.fromkeys(str(a.link.name) for a, _ in pointers))
+        yield Finding(f"{len(files)} mesh file(s) ({_names(files)}) are Git LFS pointers: this "
+                      f"checkout did not pull them, so {_MESH_RULES} did not check them and "
+                      f"{_GEOMETRY_RULES} did not run on {_names(links)}", _loc(pointers[0][1]),
+                      hint="git lfs pull (in GitHub Actions: actions/checkout with lfs: true)")
     if slow:  # not known to be broken: stopped at the time limit (hostile, or a loaded machine)
         files = list(dict.fromkeys(info.path.name for _, info in slow))
         links = list(dict.fromkeys(str(a.link.name) for a, _ in slow))
