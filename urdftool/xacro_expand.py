@@ -43,7 +43,15 @@ from urdftool.source import (
     shown_path,
     tag_position,
 )
-from urdftool.xacro_eval import REFUSED_TEXT
+from urdftool.xacro_eval import (
+    REFUSED_TEXT,
+    Deadline,
+    DependsOnRefused,
+    Interpreter,
+    LimitExceeded,
+    Refused,
+    UnsafeExpression,
+)
 from urdftool.xmlrepair import secure_parser
 
 
@@ -354,132 +362,193 @@ MAX_PARSED = 64
 
 
 @contextlib.contextmanager
+def _patched(target, **values):
+    """``target``'s attributes (a module's functions, a class's method) set to ``values`` for the
+    duration of the block, the originals put back whatever happens. Process-wide: every
+    thread sees them (one expansion runs at a time: check's workers are processes, the
+    language server expands in one worker thread)."""
+    saved = {name: getattr(target, name) for name in values}
+    for name, value in values.items():
+        setattr(target, name, value)
+    try:
+        yield saved
+    finally:
+        for name, value in saved.items():
+            setattr(target, name, value)
+
+
+@contextlib.contextmanager
 def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Path,
                    policy: _Policy | None = None):
+    """xacro (and minidom) as one expansion of ``top`` needs them, in four patch groups
+    (``_Reader`` holds what they share): minidom's child lists and copies (fast, counted),
+    the reading of files (repaired, tagged, inside the roots), the evaluation of expressions
+    (urdftool's interpreter, the hidden environment) and the locations (macro call sites, the
+    element being evaluated). Each group is undone on leaving, in reverse order."""
     import xacro
     from xacro import substitution_args
 
-    from urdftool.xacro_eval import (
-        Deadline,
-        DependsOnRefused,
-        Interpreter,
-        LimitExceeded,
-        Refused,
-        UnsafeExpression,
-    )
+    reader = _Reader(source, files, options, top, policy)
 
-    policy = policy or _Policy()
-    where: list[str] = []  # the LOC_ATTR of the elements xacro is evaluating, innermost last
+    def clone_node(node, deep):  # a function: a method of the node it is called on
+        return reader.counted_clone(node, deep)
 
-    def read_yaml(filename: str) -> str:
-        """xacro.load_yaml's file: inside the package roots, a regular file, bounded."""
-        policy.check_path(filename)
-        if not os.path.lexists(filename):  # asked for and absent: in the reads graph
-            source.missing.setdefault(os.path.realpath(filename), []).append(current_loc())
-        if os.path.exists(filename) and not os.path.isfile(filename):
-            raise OSError(f"{filename}: not a regular file (a device or a pipe)")
-        if os.path.isfile(filename) and os.path.getsize(filename) > MAX_FILE_BYTES:
-            raise LimitExceeded(f"{filename}: larger than {MAX_FILE_BYTES >> 20} MB")
-        text = read_input(Path(filename), options)  # an open editor buffer: its text
-        source.reads.add(os.path.realpath(filename))  # a trigger of the entry (issue 23)
-        return text
+    with contextlib.ExitStack() as stack:
+        stack.enter_context(_patched(xml.dom.minidom, NodeList=_ChildList,
+                                     _clone_node=_clone_node))
+        stack.enter_context(_patched(xml.dom.minidom.Node, cloneNode=clone_node))
+        stack.enter_context(_patched(xacro, parse=reader.parse,
+                                     process_include=reader.process_include,
+                                     get_include_files=reader.get_include_files))
+        stack.enter_context(_patched(substitution_args, _eval_find=reader.find))
+        # a name is a valid identifier or not whatever the file (xacro parses it with ast each
+        # time); verbosity is restored (process_file sets it)
+        stack.enter_context(_patched(
+            xacro, safe_eval=reader.safe_eval, eval_text=reader.eval_text,
+            get_boolean_value=reader.get_boolean_value, verbosity=xacro.verbosity,
+            is_valid_name=functools.lru_cache(maxsize=4096)(xacro.is_valid_name)))
+        stack.enter_context(_patched(substitution_args, _eval=reader.eval_substitution,
+                                     _eval_env=reader.eval_env,
+                                     _eval_optenv=reader.eval_optenv))
+        stack.enter_context(_patched(xacro, handle_macro_call=reader.handle_macro_call,
+                                     eval_all=reader.eval_all))
+        yield xacro
 
-    interpreter = Interpreter(policy.deadline, read_yaml)
-    node_list = xml.dom.minidom.NodeList
-    size = _Size()
-    clone_node = xml.dom.minidom.Node.cloneNode
 
-    def counted_clone(node, deep):
-        """A macro body or block copied into the document: counted before it is made."""
-        if deep:
-            size.add(size.of(node), "copying a macro body or block again")
-        return clone_node(node, deep)
-    saved = (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
-             xacro.process_include, xacro.safe_eval, substitution_args._eval,
-             substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text,
-             xacro.get_boolean_value, xacro.get_include_files)
-    globs: list[bool] = []  # per include pattern of the current <xacro:include>: matched nothing
+class _Reader:
+    """What one expansion puts in place of xacro's functions (``_patched_xacro``), and what
+    they share: the ``Source`` being filled, the files read (``_Files``), the policy, the
+    interpreter, the document's size, the elements being evaluated (``where``). xacro's own
+    functions, taken when it is made, are called through ``original``."""
 
-    def current_loc() -> Loc:
-        return _parse_loc(where[-1], files) if where else Loc(source.path, None, None)
+    def __init__(self, source: Source, files: _Files, options: LoadOptions, top: Path,
+                 policy: _Policy | None):
+        import xacro
+        from xacro import substitution_args
 
-    def refused(rule: str, expression: str, reason: str) -> Refused:
-        _refuse(source, policy, rule, expression, reason, current_loc())
+        self.xacro, self.substitution_args = xacro, substitution_args
+        self.source, self.files, self.options, self.top = source, files, options, top
+        self.policy = policy or _Policy()
+        self.where: list[str] = []  # the LOC_ATTR of the elements being evaluated, innermost last
+        self.globs: list[bool] = []  # per pattern of the current <xacro:include>: matched nothing
+        self.size = _Size()
+        self.interpreter = Interpreter(self.policy.deadline, self.read_yaml)
+        self.original = {name: getattr(xacro, name) for name in (
+            "handle_macro_call", "eval_all", "process_include", "eval_text",
+            "get_boolean_value", "get_include_files")}
+        self.original.update({name: getattr(substitution_args, name)
+                              for name in ("_eval_env", "_eval_optenv")})
+        self.clone_node = xml.dom.minidom.Node.cloneNode
+        self.text_of = self.lenient_eval_text if getattr(options, "lenient", False) \
+            else self.original["eval_text"]
+
+    # -- locations --
+
+    def current_loc(self) -> Loc:
+        return _parse_loc(self.where[-1], self.files) if self.where \
+            else Loc(self.source.path, None, None)
+
+    def refused(self, rule: str, expression: str, reason: str) -> Refused:
+        _refuse(self.source, self.policy, rule, expression, reason, self.current_loc())
         return Refused()
 
-    def condition_loc(condition: str) -> Loc:
+    def condition_loc(self, condition: str) -> Loc:
         """The line of a condition (xacro gives get_boolean_value its text, not its node)."""
-        shown = files.paths[int(where[-1].split(":")[0])] if where else source.path
+        where, source = self.where, self.source
+        shown = self.files.paths[int(where[-1].split(":")[0])] if where else source.path
         text = source.texts.get(shown, "")
         found = re.search(r"<(?:xacro:)?(?:if|unless)\s[^<>]*?value\s*=\s*[\"']"
                           + re.escape(condition) + "[\"']", text)
         if found is None:
-            return current_loc()
+            return self.current_loc()
         return Loc(shown, text.count("\n", 0, found.start()) + 1, None)
 
-    def display_path(filename: str) -> str:
-        if Path(filename).resolve() == top.resolve():
-            return source.path
-        return shown_path(filename, source.path)
+    def display_path(self, filename: str) -> str:
+        if Path(filename).resolve() == self.top.resolve():
+            return self.source.path
+        return shown_path(filename, self.source.path)
 
-    def parse(inp, filename=None):
+    # -- reading --
+
+    def read_yaml(self, filename: str) -> str:
+        """xacro.load_yaml's file: inside the package roots, a regular file, bounded."""
+        self.policy.check_path(filename)
+        if not os.path.lexists(filename):  # asked for and absent: in the reads graph
+            self.source.missing.setdefault(os.path.realpath(filename), []).append(
+                self.current_loc())
+        if os.path.exists(filename) and not os.path.isfile(filename):
+            raise OSError(f"{filename}: not a regular file (a device or a pipe)")
+        if os.path.isfile(filename) and os.path.getsize(filename) > MAX_FILE_BYTES:
+            raise LimitExceeded(f"{filename}: larger than {MAX_FILE_BYTES >> 20} MB")
+        text = read_input(Path(filename), self.options)  # an open editor buffer: its text
+        self.source.reads.add(os.path.realpath(filename))  # a trigger of the entry (issue 23)
+        return text
+
+    def counted_clone(self, node, deep):
+        """A macro body or block copied into the document: counted before it is made."""
+        if deep:
+            self.size.add(self.size.of(node), "copying a macro body or block again")
+        return self.clone_node(node, deep)
+
+    def parse(self, inp, filename=None):
         if isinstance(inp, xml.dom.minidom.Document):
             return inp
         if inp is None:
-            full = Path(xacro.root_dir if hasattr(xacro, "root_dir") else ".") / filename
+            full = Path(self.xacro.root_dir if hasattr(self.xacro, "root_dir") else ".") / filename
             try:
-                policy.check_path(str(full))
+                self.policy.check_path(str(full))
                 if full.exists() and not full.is_file() and not full.is_dir():
                     raise OSError(f"{full}: not a regular file (a device or a pipe)")
                 if full.is_file() and full.stat().st_size > MAX_FILE_BYTES:
                     raise LimitExceeded(f"{full}: larger than {MAX_FILE_BYTES >> 20} MB")
-                text = read_input(full, options)
+                text = read_input(full, self.options)
             except (OutsidePackage, LimitExceeded) as exc:
-                xacro.filestack.pop()
-                raise xacro.XacroException(str(exc), exc=exc) from None
+                self.xacro.filestack.pop()
+                raise self.xacro.XacroException(str(exc), exc=exc) from None
             except Exception as exc:  # noqa: BLE001 - reported as a xacro problem
-                xacro.filestack.pop()
-                failed = xacro.XacroException("cannot include", exc=OSError(str(exc)))
+                self.xacro.filestack.pop()
+                failed = self.xacro.XacroException("cannot include", exc=OSError(str(exc)))
                 if not os.path.lexists(full):  # asked for and absent: in the reads graph
                     failed.urdftool_missing = os.path.realpath(full)
                 raise failed from None
-            shown = display_path(str(full))
+            shown = self.display_path(str(full))
         else:
             text = inp if isinstance(inp, str) else inp.read()
-            shown = source.path
-        source.texts.setdefault(shown, text)
-        size.add(len(text), f"reading {shown}")
-        key = (text, shown, files.index(shown))
+            shown = self.source.path
+        self.source.texts.setdefault(shown, text)
+        self.size.add(len(text), f"reading {shown}")
+        key = (text, shown, self.files.index(shown))
         known = _PARSED.get(key)
         if known is not None:
             for expression, reason, line in known[1]:
-                _refuse(source, policy, "xacro.unsafe-expression", expression, reason,
+                _refuse(self.source, self.policy, "xacro.unsafe-expression", expression, reason,
                         Loc(shown, line, None))
             return _copy_document(known[0])
-        problems = len(source.problems)
-        root = parse_text(text, shown, source)
-        clean = len(source.problems) == problems
+        problems = len(self.source.problems)
+        root = parse_text(text, shown, self.source)
+        clean = len(self.source.problems) == problems
         if root is None:
-            raise xacro.XacroException(f"{shown}: not well-formed XML")
+            raise self.xacro.XacroException(f"{shown}: not well-formed XML")
         info = root.getroottree().docinfo
         dtd = info.internalDTD
         if info.system_url or info.public_id or (dtd is not None and any(dtd.iterentities())):
-            refused = xacro.XacroException(
+            refused = self.xacro.XacroException(
                 "a DOCTYPE that declares entities or names an external DTD: urdftool neither "
                 "loads DTDs nor expands entities, so the file is not expanded")
             line = text.count("\n", 0, max(text.find("<!DOCTYPE"), 0)) + 1
-            refused.urdftool_loc = f"{files.index(shown)}:{line}:0"
+            refused.urdftool_loc = f"{self.files.index(shown)}:{line}:0"
             raise refused
         unsafe = _unsafe_expressions(root)
         for expression, reason, line in unsafe:
-            _refuse(source, policy, "xacro.unsafe-expression", expression, reason,
+            _refuse(self.source, self.policy, "xacro.unsafe-expression", expression, reason,
                     Loc(shown, line, None))
-        _tag_elements(root, files.index(shown), text)
+        _tag_elements(root, self.files.index(shown), text)
         # Only the element tree goes to minidom: no DOCTYPE, so no entity declarations; an
         # entity reference left unexpanded by the secure parser is refused here.
         for node in root.iter(etree.Entity):
-            raise xacro.XacroException(f"{shown}:{node.sourceline}: entity reference {node.text} "
-                                       "is not expanded (DTD entities are disabled)")
+            raise self.xacro.XacroException(
+                f"{shown}:{node.sourceline}: entity reference {node.text} "
+                "is not expanded (DTD entities are disabled)")
         # the comments beside the root element too: xacro writes them (issue 14)
         around = [etree.tostring(node, encoding="unicode", with_tail=False)
                   for node in root.itersiblings(preceding=True)][::-1]
@@ -498,86 +567,35 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
             _SEEN.add(key)
         return document
 
-    def handle_macro_call(node, macros, symbols):
-        if policy.deadline is not None and time.monotonic() > policy.deadline:
-            raise Deadline("xacro expansion took longer than the time limit")
-        if not node.tagName.startswith("xacro:") or node.tagName == "xacro:call":
-            return saved[1](node, macros, symbols)
-        call = node.getAttribute(LOC_ATTR)
-        if call:
-            node.removeAttribute(LOC_ATTR)
-        parent, after = node.parentNode, node.nextSibling
-        before = node.previousSibling
-        while before is not None and before.nodeType != before.ELEMENT_NODE:
-            before = before.previousSibling
-        try:
-            expanded = saved[1](node, macros, symbols)
-        except (xacro.XacroException, LimitExceeded) as exc:
-            if call and not hasattr(exc, "urdftool_loc"):
-                exc.urdftool_loc = call
-            raise
-        if expanded and call and parent is not None:
-            index, line, _ = call.split(":")
-            site = f"{files.paths[int(index)]}:{line}"
-            current = before.nextSibling if before is not None else parent.firstChild
-            while current is not None and current is not after:
-                if current.nodeType == current.ELEMENT_NODE:  # what it holds inherits it
-                    via = current.getAttribute(VIA_ATTR)
-                    current.setAttribute(VIA_ATTR, f"{via};{site}" if via else site)
-                current = current.nextSibling
-        return expanded
-
-    def eval_all(node, macros, symbols):
-        tagged = node.nodeType == node.ELEMENT_NODE and node.getAttribute(LOC_ATTR)
-        if tagged:
-            where.append(tagged)
-        try:
-            return saved[2](node, macros, symbols)
-        except (xacro.XacroException, UnsafeExpression, LimitExceeded) as exc:
-            if not hasattr(exc, "urdftool_loc") and tagged:
-                exc.urdftool_loc = tagged
-            raise
-        finally:
-            if tagged:
-                where.pop()
-
-    def get_boolean_value(value, condition):
-        if isinstance(value, Refused) or (isinstance(value, str) and REFUSED_TEXT in value):
-            # which branch the file meant is unknown: expanding either could raise false alarms
-            _refuse(source, policy, "xacro.unsafe-expression", condition,
-                    "a condition on a refused expression", condition_loc(condition), stops=True)
-            raise _Reported()
-        return saved[10](value, condition)
-
-    def get_include_files(filename_spec, symbols):
-        matched = list(saved[11](filename_spec, symbols))
-        if policy.roots is not None and (len(matched) != 1 or re.search(
-                "[*[?]+", xacro.eval_text(filename_spec, symbols))):
+    def get_include_files(self, filename_spec, symbols):
+        matched = list(self.original["get_include_files"](filename_spec, symbols))
+        if self.policy.roots is not None and (len(matched) != 1 or re.search(
+                "[*[?]+", self.xacro.eval_text(filename_spec, symbols))):
             # a pattern: only the files that may be read, so that the answer is the same
             # whether or not files outside the roots match it
-            matched = [m for m in matched if policy.roots.readable(m)]
-        globs.append(not matched)  # only a pattern matches nothing (a name is tried as is)
+            matched = [m for m in matched if self.policy.roots.readable(m)]
+        self.globs.append(not matched)  # only a pattern matches nothing (a name is tried as is)
         return matched
 
-    def process_include(elt, macros, symbols, func):
+    def process_include(self, elt, macros, symbols, func):
         """A missing include is reported and skipped, so the rest is still expanded; a
         pattern that matches nothing is said (plain xacro only warns on stderr), the same way
         whether or not something outside the package roots would have matched."""
         try:
-            globs.clear()
-            result = saved[4](elt, macros, symbols, func)
-            if any(globs) and elt.getAttribute(LOC_ATTR):
-                source.add("xacro.error", Finding(
+            self.globs.clear()
+            result = self.original["process_include"](elt, macros, symbols, func)
+            if any(self.globs) and elt.getAttribute(LOC_ATTR):
+                self.source.add("xacro.error", Finding(
                     f"xacro: include '{elt.getAttribute('filename')}' matched no file"
-                    + (" inside the repository" if policy.roots is not None else "")
-                    + "; nothing included", _parse_loc(elt.getAttribute(LOC_ATTR), files),
+                    + (" inside the repository" if self.policy.roots is not None else "")
+                    + "; nothing included", _parse_loc(elt.getAttribute(LOC_ATTR), self.files),
                     severity="warning"))
             return result
         except LimitExceeded as exc:  # (the document's size: at the include that grew it)
             if not hasattr(exc, "urdftool_loc") and elt.getAttribute(LOC_ATTR):
                 exc.urdftool_loc = elt.getAttribute(LOC_ATTR)
             raise
-        except xacro.XacroException as exc:
+        except self.xacro.XacroException as exc:
             if not hasattr(exc, "urdftool_loc") and elt.getAttribute(LOC_ATTR):
                 exc.urdftool_loc = elt.getAttribute(LOC_ATTR)
             outside = isinstance(exc.exc, OutsidePackage)
@@ -594,132 +612,160 @@ def _patched_xacro(source: Source, files: _Files, options: LoadOptions, top: Pat
                        "package with -P NAME=DIR or ROS_PACKAGE_PATH)") if outside \
                 else f"$(find {package}): package '{package}' not found" if package \
                 else str(exc).strip()
-            loc = _parse_loc(exc.urdftool_loc, files)
+            loc = _parse_loc(exc.urdftool_loc, self.files)
             template = None
             if hasattr(exc, "urdftool_missing"):  # the include of a file that is not there
-                source.missing.setdefault(exc.urdftool_missing, []).append(loc)
-                template = _template_of(exc.urdftool_missing, policy)
+                self.source.missing.setdefault(exc.urdftool_missing, []).append(loc)
+                template = _template_of(exc.urdftool_missing, self.policy)
             if template is not None:  # made by the build: not a defect of the sources
                 message = (f"cannot include '{elt.getAttribute('filename')}': it is generated "
                            f"at build time from {Path(template).name} (not in the source tree)")
-            source.add("xacro.error", Finding(
+            self.source.add("xacro.error", Finding(
                 f"xacro: {message}; skipped, the rest is expanded without it", loc,
                 hint=None if template is None else
                 "check the built package (its share directory), or give the directory of the "
-                "generated file with -P NAME=DIR", severity=None if template is None else "warning"))
-            xacro.replace_node(elt, by=None)
+                "generated file with -P NAME=DIR",
+                severity=None if template is None else "warning"))
+            self.xacro.replace_node(elt, by=None)
 
-    def find(package: str) -> str:
-        directory = source.resolver.find(package) if source.resolver else None
+    def find(self, package: str) -> str:
+        directory = self.source.resolver.find(package) if self.source.resolver else None
         if directory is None:
-            missing = xacro.XacroException(
+            missing = self.xacro.XacroException(
                 f"package '{package}' not found (looked in: "
-                f"{source.resolver.tried() if source.resolver else '-P'}; give it with "
+                f"{self.source.resolver.tried() if self.source.resolver else '-P'}; give it with "
                 f"-P {package}=DIR, or put the directory holding it on ROS_PACKAGE_PATH)")
             missing.urdftool_package = package
             raise missing
         return str(directory)
 
-    def safe_eval(expr, globals, locals=None):
+    # -- evaluation --
+
+    def safe_eval(self, expr, globals, locals=None):
         """An expression by the interpreter; a refused one is a finding and the placeholder
         (the rest of the file is still expanded), except past the deadline."""
         try:
-            return interpreter.evaluate(expr, globals)
+            return self.interpreter.evaluate(expr, globals)
         except DependsOnRefused:
             return Refused()
         except UnsafeExpression as exc:
-            return refused("xacro.unsafe-expression", exc.expression, exc.reason)
+            return self.refused("xacro.unsafe-expression", exc.expression, exc.reason)
         except Deadline:
             raise
         except LimitExceeded as exc:
-            return refused("xacro.limit-exceeded", expr, str(exc))
+            return self.refused("xacro.limit-exceeded", expr, str(exc))
 
-    def eval_substitution(s, context):
+    def eval_substitution(self, s, context):
         """xacro's ``$(eval ...)``, by the interpreter."""
         if "arg" not in context:
             context["arg"] = {}
 
         def arg(name):
-            return substitution_args.convert_value(
-                substitution_args._eval_arg(name, args=context["arg"]), "auto")
+            return self.substitution_args.convert_value(
+                self.substitution_args._eval_arg(name, args=context["arg"]), "auto")
 
         def dirname():
-            return substitution_args._eval_dirname(context["filename"])
+            return self.substitution_args._eval_dirname(context["filename"])
 
         if s.find("__") >= 0:
-            return refused("xacro.unsafe-expression", s,
-                           "$(eval ...) may not contain double underscore expressions")
-        functions = {"arg": arg, "dirname": dirname, "env": eval_env, "optenv": eval_optenv,
-                     "find": find}
+            return self.refused("xacro.unsafe-expression", s,
+                                "$(eval ...) may not contain double underscore expressions")
+        functions = {"arg": arg, "dirname": dirname, "env": self.eval_env,
+                     "optenv": self.eval_optenv, "find": self.find}
         try:
-            value = interpreter.evaluate_substitution(s, context["arg"], functions)
+            value = self.interpreter.evaluate_substitution(s, context["arg"], functions)
         except DependsOnRefused:
             return Refused()
         except UnsafeExpression as exc:
-            return refused("xacro.unsafe-expression", s, exc.reason)
+            return self.refused("xacro.unsafe-expression", s, exc.reason)
         except Deadline:
             raise
         except LimitExceeded as exc:
-            return refused("xacro.limit-exceeded", s, str(exc))
-        return interpreter.to_str(value)
+            return self.refused("xacro.limit-exceeded", s, str(exc))
+        return self.interpreter.to_str(value)
 
-    def eval_env(name):
-        if policy.allow_env is not None and name not in policy.allow_env:
-            raise substitution_args.SubstitutionException(
+    def eval_env(self, name):
+        if self.policy.allow_env is not None and name not in self.policy.allow_env:
+            raise self.substitution_args.SubstitutionException(
                 f"environment variable {name} is not visible: a checked file reads only the "
                 "variables named with --allow-env")
-        return saved[7](name)
+        return self.original["_eval_env"](name)
 
-    def eval_optenv(name, default=""):
-        if policy.allow_env is not None and name not in policy.allow_env:
-            policy.hidden.append(name)
+    def eval_optenv(self, name, default=""):
+        if self.policy.allow_env is not None and name not in self.policy.allow_env:
+            self.policy.hidden.append(name)
             return default
-        return saved[8](name, default)
+        return self.original["_eval_optenv"](name, default)
 
-    xacro.parse, xacro.handle_macro_call, xacro.eval_all = parse, handle_macro_call, eval_all
-    substitution_args._eval_find, xacro.process_include = find, process_include
-    xacro.safe_eval, substitution_args._eval = safe_eval, eval_substitution
-    substitution_args._eval_env, substitution_args._eval_optenv = eval_env, eval_optenv
-    def lenient_eval_text(text, symbols):
+    def lenient_eval_text(self, text, symbols):
         """An expression naming something undefined (or computed from one) stays as written."""
         try:
-            return saved[9](text, symbols)
-        except xacro.XacroException as exc:
+            return self.original["eval_text"](text, symbols)
+        except self.xacro.XacroException as exc:
             if _cause(exc, (NameError, TypeError)) is None:
                 raise
             return text
 
-    if getattr(options, "lenient", False):
-        xacro.eval_text = lenient_eval_text
-    text_of = xacro.eval_text
-
-    def eval_text(text, symbols):
+    def eval_text(self, text, symbols):
         """A text without ``$`` is its own value (xacro lexes every attribute and text node,
         whitespace included, to find that out)."""
         if type(text) is str and "$" not in text:
             return text
-        return text_of(text, symbols)
+        return self.text_of(text, symbols)
 
-    xacro.eval_text = eval_text
-    # a name is a valid identifier or not whatever the file (xacro parses it with ast each
-    # time); verbosity 0: no location printed after the warnings that go nowhere
-    more = (xacro.is_valid_name, xacro.verbosity)
-    xacro.is_valid_name = functools.lru_cache(maxsize=4096)(more[0])
-    xml.dom.minidom.NodeList = _ChildList
-    xml.dom.minidom._clone_node = _clone_node
-    xml.dom.minidom.Node.cloneNode = counted_clone
-    xacro.get_boolean_value, xacro.get_include_files = get_boolean_value, get_include_files
-    try:
-        yield xacro
-    finally:
-        xacro.is_valid_name, xacro.verbosity = more
-        xml.dom.minidom.NodeList = node_list
-        xml.dom.minidom._clone_node = _CLONE_NODE
-        xml.dom.minidom.Node.cloneNode = clone_node
-        (xacro.parse, xacro.handle_macro_call, xacro.eval_all, substitution_args._eval_find,
-         xacro.process_include, xacro.safe_eval, substitution_args._eval,
-         substitution_args._eval_env, substitution_args._eval_optenv, xacro.eval_text,
-         xacro.get_boolean_value, xacro.get_include_files) = saved
+    def get_boolean_value(self, value, condition):
+        if isinstance(value, Refused) or (isinstance(value, str) and REFUSED_TEXT in value):
+            # which branch the file meant is unknown: expanding either could raise false alarms
+            _refuse(self.source, self.policy, "xacro.unsafe-expression", condition,
+                    "a condition on a refused expression", self.condition_loc(condition),
+                    stops=True)
+            raise _Reported()
+        return self.original["get_boolean_value"](value, condition)
+
+    # -- macro calls and the element being evaluated --
+
+    def handle_macro_call(self, node, macros, symbols):
+        if self.policy.deadline is not None and time.monotonic() > self.policy.deadline:
+            raise Deadline("xacro expansion took longer than the time limit")
+        if not node.tagName.startswith("xacro:") or node.tagName == "xacro:call":
+            return self.original["handle_macro_call"](node, macros, symbols)
+        call = node.getAttribute(LOC_ATTR)
+        if call:
+            node.removeAttribute(LOC_ATTR)
+        parent, after = node.parentNode, node.nextSibling
+        before = node.previousSibling
+        while before is not None and before.nodeType != before.ELEMENT_NODE:
+            before = before.previousSibling
+        try:
+            expanded = self.original["handle_macro_call"](node, macros, symbols)
+        except (self.xacro.XacroException, LimitExceeded) as exc:
+            if call and not hasattr(exc, "urdftool_loc"):
+                exc.urdftool_loc = call
+            raise
+        if expanded and call and parent is not None:
+            index, line, _ = call.split(":")
+            site = f"{self.files.paths[int(index)]}:{line}"
+            current = before.nextSibling if before is not None else parent.firstChild
+            while current is not None and current is not after:
+                if current.nodeType == current.ELEMENT_NODE:  # what it holds inherits it
+                    via = current.getAttribute(VIA_ATTR)
+                    current.setAttribute(VIA_ATTR, f"{via};{site}" if via else site)
+                current = current.nextSibling
+        return expanded
+
+    def eval_all(self, node, macros, symbols):
+        tagged = node.nodeType == node.ELEMENT_NODE and node.getAttribute(LOC_ATTR)
+        if tagged:
+            self.where.append(tagged)
+        try:
+            return self.original["eval_all"](node, macros, symbols)
+        except (self.xacro.XacroException, UnsafeExpression, LimitExceeded) as exc:
+            if not hasattr(exc, "urdftool_loc") and tagged:
+                exc.urdftool_loc = tagged
+            raise
+        finally:
+            if tagged:
+                self.where.pop()
 
 
 # what a build makes a file from: ``robot.urdf.xacro`` from ``robot.urdf.xacro.in`` (CMake's
