@@ -49,10 +49,12 @@ def command(ctx, inputs, fmt, packages, render_dir, exit_code):
 
     Exit code 0 (with --exit-code: 1 when a robot changed); 2: the diff could not be made.
     """
+    from contextlib import ExitStack
+
     from urdftool.check import CheckOptions
     from urdftool.diff import formats
     from urdftool.diff import revisions as git
-    from urdftool.diff.run import Side, diff_files, diff_sides, share_meshes, side_args
+    from urdftool.diff.run import diff_revisions, diff_snapshots
 
     literal = ctx.meta.get(_LITERAL_KEY, 0)
     values = list(inputs)
@@ -66,51 +68,23 @@ def command(ctx, inputs, fmt, packages, render_dir, exit_code):
             positional.append(value)
     options = CheckOptions(load_options(packages, xacro_args), debug=ctx.obj.get("debug", False))
     options.unsafe_edits = False
-    temporaries = []
-    try:
+    with ExitStack() as stack:
         if len(positional) == 2 and _snapshots(*positional):
-            old, new = Path(positional[0]), Path(positional[1])
-            base, head = Side(positional[0], old), Side(positional[1], new)
-            if old.is_file():
-                base = Side(positional[0], old.parent, str(old))
-                head = Side(positional[1], new.parent, str(new))
-                robots = diff_files(old, new, options)
-            else:
-                robots = diff_sides(base, head, options, None, limits)
+            robots, base, head = diff_snapshots(Path(positional[0]), Path(positional[1]),
+                                                options, limits)
         elif len(positional) <= 1:
             repo = git.repository(Path.cwd())
             base_rev, head_rev, merge_base = _range(positional[0] if positional else "")
-            base_commit = git.commit(repo, base_rev)
-            head_commit = git.commit(repo, head_rev) if head_rev is not None else None
-            if merge_base and head_commit is not None:
-                base_commit = git.merge_base(repo, base_commit, head_commit)
-            changed = git.changed_files(repo, base_commit, head_commit)
-            worktree = git.worktree_blobs(repo)
-            base_dir = git.temporary_tree("base")
-            temporaries.append(base_dir)
-            base_blobs = git.materialize(repo, base_commit, Path(base_dir.name), worktree)
-            base = Side(base_rev, Path(base_dir.name), blobs=base_blobs)
-            if head_commit is None:
-                head = Side(git.WORKTREE, repo, blobs=worktree)
-                share_meshes(base.tree, base_blobs, repo, worktree)
-            else:
-                head_dir = git.temporary_tree("head")
-                temporaries.append(head_dir)
-                head_blobs = git.materialize(repo, head_commit, Path(head_dir.name), worktree)
-                head = Side(head_rev, Path(head_dir.name), blobs=head_blobs)
-                share_meshes(head.tree, head_blobs, repo, worktree)  # (CI: HEAD is checked
-                share_meshes(base.tree, base_blobs, head.tree, head_blobs)  # out: its cache)
-            base = base._replace(args=side_args(xacro_args, repo, base.tree))
-            head = head._replace(args=side_args(xacro_args, repo, head.tree))
-            robots = diff_sides(base, head, options, changed,
-                                [_in_repository(limit, repo) for limit in limits])
+            robots, base, head = stack.enter_context(diff_revisions(
+                repo, base_rev, head_rev, merge_base, options, xacro_args,
+                [_in_repository(limit, repo) for limit in limits]))
         else:
             raise ToolError("give at most one revision range (BASE, BASE..HEAD), or two "
                             "existing files or two directories (OLD NEW)"
                             + (f"; {positional[1]!r} and the rest are not both files or "
                                "directories" if len(positional) == 2 else ""))
         pictures = {}
-        if render_dir:
+        if render_dir:  # (while the revisions' trees exist: the meshes are read there)
             from urdftool.diff.render import render_robots
 
             pictures = render_robots(robots, Path(render_dir))
@@ -121,9 +95,6 @@ def command(ctx, inputs, fmt, packages, render_dir, exit_code):
         else:
             lines = formats.text_lines(robots, base, head, _colour(sys.stdout))
             echo("\n".join(lines) if lines else "no robot reads a file this change touched")
-    finally:
-        for temporary in temporaries:
-            temporary.cleanup()
     if exit_code and any(r.status != "unchanged" for r in robots):
         ctx.exit(1)
 

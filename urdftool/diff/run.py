@@ -17,6 +17,7 @@ import hashlib
 import os
 import re
 import time
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 from typing import NamedTuple
 
@@ -332,6 +333,48 @@ def share_meshes(tree: Path, blobs: dict[str, str], other: Path,
     for path, blob in blobs.items():
         if other_blobs.get(path) == blob and os.path.splitext(path)[1].lower() in LOADABLE:
             same_content(tree / path, other / path)
+
+
+def diff_snapshots(old: Path, new: Path, options: CheckOptions,
+                   limits: list[str]) -> tuple[list[RobotDiff], Side, Side]:
+    """Two files (one robot) or two directories (their entries), as the user gave them."""
+    if old.is_file():
+        base, head = Side(str(old), old.parent, str(old)), Side(str(new), new.parent, str(new))
+        return diff_files(old, new, options), base, head
+    base, head = Side(str(old), old), Side(str(new), new)
+    return diff_sides(base, head, options, None, limits), base, head
+
+
+@contextmanager
+def diff_revisions(repo: Path, base_rev: str, head_rev: str | None, merge_base: bool,
+                   options: CheckOptions, xacro_args: dict[str, str], limits: list[str]):
+    """(robots, BASE side, HEAD side) of two revisions of ``repo`` (``head_rev`` None: the
+    working tree), each read from git objects into a temporary tree that lives as long as
+    the context (pictures are drawn from its meshes)."""
+    from urdftool.diff import revisions as git
+
+    base_commit = git.commit(repo, base_rev)
+    head_commit = git.commit(repo, head_rev) if head_rev is not None else None
+    if merge_base and head_commit is not None:
+        base_commit = git.merge_base(repo, base_commit, head_commit)
+    changed = git.changed_files(repo, base_commit, head_commit)
+    worktree = git.worktree_blobs(repo)
+    with ExitStack() as stack:
+        base_dir = Path(stack.enter_context(git.temporary_tree("base")))
+        base_blobs = git.materialize(repo, base_commit, base_dir, worktree)
+        base = Side(base_rev, base_dir, blobs=base_blobs)
+        if head_commit is None:
+            head = Side(git.WORKTREE, repo, blobs=worktree)
+            share_meshes(base.tree, base_blobs, repo, worktree)
+        else:
+            head_dir = Path(stack.enter_context(git.temporary_tree("head")))
+            head_blobs = git.materialize(repo, head_commit, head_dir, worktree)
+            head = Side(head_rev, head_dir, blobs=head_blobs)
+            share_meshes(head.tree, head_blobs, repo, worktree)  # (CI: HEAD is checked out,
+            share_meshes(base.tree, base_blobs, head.tree, head_blobs)  # its meshes cached)
+        base = base._replace(args=side_args(xacro_args, repo, base.tree))
+        head = head._replace(args=side_args(xacro_args, repo, head.tree))
+        yield diff_sides(base, head, options, changed, limits), base, head
 
 
 def diff_files(old: Path, new: Path, options: CheckOptions) -> list[RobotDiff]:
