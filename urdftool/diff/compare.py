@@ -247,22 +247,23 @@ class Comparison:
 
     # locations of sub-elements the model does not record (an origin, an axis)
     def _sub_loc(self, robot: Robot, tag: str, name: str | None, child: str, fallback):
+        """Where ``child`` (a path of tags: "inertial/origin") of the first <tag name=...> of
+        ``robot`` was written, else ``fallback``."""
         if robot.root is None or name is None:
             return fallback
         key = (id(robot), tag, name)
         if key not in self._elements:
             for element in robot.root:
-                if element.tag in ("link", "joint") and (id(robot), element.tag,
-                                                         element.get("name")) not in self._elements:
-                    self._elements[(id(robot), element.tag, element.get("name"))] = element
+                found = (id(robot), element.tag, element.get("name"))
+                if element.tag in ("link", "joint") and found not in self._elements:
+                    self._elements[found] = element
             self._elements.setdefault(key, None)
         element = self._elements[key]
-        if element is None:
-            return fallback
-        for sub in element:
-            if sub.tag == child:
-                return robot.loc(sub)
-        return fallback
+        for step in child.split("/"):
+            if element is None:
+                return fallback
+            element = next((sub for sub in element if sub.tag == step), None)
+        return robot.loc(element) if element is not None else fallback
 
     def add(self, element, name, aspect, before, after, loc, base_loc, summary, size=1.0,
             **extra) -> None:
@@ -412,7 +413,10 @@ class Comparison:
             distance = math.dist(com_a or (0, 0, 0), com_b or (0, 0, 0))
             self.add("link", name, "com", list(com_a) if com_a else None,
                      list(com_b) if com_b else None,
-                     self._sub_loc_inertial(self.b, lb), self._sub_loc_inertial(self.a, la),
+                     self._sub_loc(self.b, "link", lb.name, "inertial/origin",
+                                   ib.loc if ib else lb.loc),
+                     self._sub_loc(self.a, "link", la.name, "inertial/origin",
+                                   ia.loc if ia else la.loc),
                      f"link '{name}' centre of mass moves {distance * 1000:.4g} mm",
                      size=distance, distance=distance)
         ta, tb = _tensor_in_link(la), _tensor_in_link(lb)
@@ -430,12 +434,6 @@ class Comparison:
                      + _rel_text(rel), **_rel_fields(rel))
         for role in ("visual", "collision"):
             self._shapes(role, la, lb)
-
-    def _sub_loc_inertial(self, robot: Robot, link: Link):
-        inertial = link.inertial
-        if inertial is None:
-            return link.loc
-        return inertial.loc
 
     def _shapes(self, role: str, la: Link, lb: Link) -> None:
         sa = la.visuals if role == "visual" else la.collisions
