@@ -28,6 +28,7 @@ from urdftool.package import (
     Target,
     classify,
     gone,
+    is_companion,
     other_inputs,
     plan,
     role,
@@ -65,6 +66,7 @@ class CheckOptions:
     unsafe_edits: bool = True
     selection: object = None  # package.Selection: what directories' files are checked
     config_file: Path | None = None  # --config: this configuration for every file
+    robot: str | None = None  # --robot: the robot of the companion files (SRDF) given
 
 
 LOOKS = 3  # rounds of look-through: a fix can uncover more (a macro call's body)
@@ -101,18 +103,32 @@ def target_options(options: CheckOptions, target: Target | None = None) -> LoadO
 
 def check_once(path: Path | str, options: CheckOptions, load_options=None):
     """(source, robot, diagnostics) of one reading of ``path``: every selected rule, no
-    look-through, no suppressions."""
+    look-through, no suppressions (a companion file: ``companion_check.companion_once``)."""
+    if is_companion(path):
+        from urdftool.companion_check import companion_once
+
+        return companion_once(sys.modules[__name__], path, options, load_options)[:3]
     source = load(path, load_options or options.load)
     robot = build_robot(source)
+    return source, robot, run_rules(robot, source.path, options)
+
+
+def run_rules(subject, default_path: str, options: CheckOptions, on: str = "robot",
+              keep=None) -> list[Diagnostic]:
+    """The diagnostics of every selected rule given ``on`` (``rules.SUBJECTS``: the robot, or
+    a companion model) that ``keep(rule)`` keeps (all without it)."""
     rules_module.UNSAFE_EDITS = options.unsafe_edits
     select = options.select or options.config.select
     ignore = options.ignore + options.config.ignore
-    ran = rules_module.run(robot, _enabled(select, ignore, options.config.severity),
-                           (load_options or options.load).timeout, options.debug)
-    diagnostics = [_diagnostic(r.rule, r.severity, r.finding, source.path) for r in ran]
+    enabled = [(rule, severity) for rule, severity in
+               _enabled(select, ignore, options.config.severity)
+               if rule.on == on and (keep is None or keep(rule))]
+    source = subject.source
+    ran = rules_module.run(subject, enabled, options.load.timeout, options.debug)
+    diagnostics = [_diagnostic(r.rule, r.severity, r.finding, default_path) for r in ran]
     if any(rule in REFUSING_RULES for rule, _ in source.problems):
         diagnostics = _without_refused(diagnostics, source)
-    return source, robot, diagnostics
+    return diagnostics
 
 
 REFUSING_RULES = ("xacro.unsafe-expression", "xacro.limit-exceeded")
@@ -280,6 +296,10 @@ def check_model(path: Path | str, options: CheckOptions | None = None,
     options = options or CheckOptions()
     if budget.spent():
         return not_checked(path, target), None
+    if is_companion(path):
+        from urdftool.companion_check import check_companion
+
+        return check_companion(sys.modules[__name__], path, options, target)
     load_options = target_options(options, target)
     source, robot, diagnostics = check_once(path, options, load_options)
     texts = source.texts
@@ -437,7 +457,9 @@ def check_paths(paths: list[str], options: CheckOptions | None = None,
     # what the run may read, once, from the operator's options and the paths given (changed
     # files are data: the working directory's repository): before any configuration is read
     options.load = copy.copy(options.load)
-    options.load.roots = run_roots(paths, options.load, named=options.changed)
+    # (--robot: the robot of the companion files given, typed by the operator)
+    options.load.roots = run_roots([*paths, *([options.robot] if options.robot else [])],
+                                   options.load, named=options.changed)
     selection = options.selection if options.selection is not None else Selection()
     files, given = plan(paths, options.changed, selection, options.config_file)
     files = with_operator_args(files, options.load.xacro_args)

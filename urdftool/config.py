@@ -36,9 +36,18 @@ class Entry(NamedTuple):
     args: dict[str, str]
 
 
+class Companion(NamedTuple):
+    """A companion file (an SRDF, a controllers YAML) and the robot it describes (issue 31):
+    ``srdf = [{ file = "config/robot.srdf", robot = "urdf/robot.urdf.xacro", args = {...} }]``."""
+
+    path: Path  # absolute
+    robot: Path  # absolute
+    args: dict[str, str]  # the robot's xacro arguments
+
+
 class Config:
-    __slots__ = ("baseline", "entries", "exclude", "extend_exclude", "ignore", "packages",
-                 "path", "respect_gitignore", "select", "severity", "strict")
+    __slots__ = ("baseline", "companions", "entries", "exclude", "extend_exclude", "ignore",
+                 "packages", "path", "respect_gitignore", "select", "severity", "strict")
 
     def __init__(self, select: list[str] | None = None, ignore: list[str] | None = None,
                  strict: bool = False, severity: dict[str, str] | None = None,
@@ -55,10 +64,11 @@ class Config:
         self.exclude: list[str] | None = None  # None: the defaults
         self.extend_exclude: list[str] = []
         self.respect_gitignore = True
+        self.companions: list[Companion] = []  # ``srdf``
 
 
-KEYS = ("select", "ignore", "strict", "severity", "entries", "packages", "baseline", "exclude",
-        "extend-exclude", "respect-gitignore")
+KEYS = ("select", "ignore", "strict", "severity", "entries", "packages", "baseline", "srdf",
+        "exclude", "extend-exclude", "respect-gitignore")
 
 
 def find_config(start: Path, memo: dict | None = None) -> tuple[Path, dict] | None:
@@ -191,10 +201,12 @@ def parse_config(table: dict, path: Path) -> Config:
         entries = _entries(table.get("entries", []), where, base, repository)
         baseline_path = (clamp(baseline, base, "baseline", repository)
                          if baseline is not None else None)
+        companions = _companions(table.get("srdf", []), where, base, repository)
     except OutsideRepository as exc:
         raise ToolError(f"{where}{exc}") from None
     config = Config(strings("select"), strings("ignore"), strict, dict(severity), path, entries,
                     directories, baseline_path)
+    config.companions = companions
     for key in ("exclude", "extend-exclude"):
         value = table.get(key)
         if value is None:
@@ -233,6 +245,32 @@ def _entries(value, where: str, base: Path, repository: Path) -> list[Entry]:
         # xacro arguments are strings; TOML booleans and numbers are written as xacro reads them
         entries.append(Entry(file, {str(k): _arg_text(v) for k, v in args.items()}))
     return entries
+
+
+def _companions(value, where: str, base: Path, repository: Path) -> list[Companion]:
+    shape = ('srdf = [{ file = "config/robot.srdf", robot = "urdf/robot.urdf.xacro", '
+             'args = { NAME = "VALUE" } }, ...]')
+    if not isinstance(value, list):
+        raise ToolError(f"{where}srdf must be a list: {shape}")
+    found = []
+    for number, item in enumerate(value, start=1):
+        if not isinstance(item, dict) or not isinstance(item.get("file"), str) \
+                or not isinstance(item.get("robot"), str):
+            raise ToolError(f"{where}srdf[{number}] needs a file and a robot: {shape}")
+        for key in item:
+            if key not in ("file", "robot", "args"):
+                raise ToolError(f"{where}srdf[{number}].{key}: unknown key"
+                                f"{did_you_mean(key, ('file', 'robot', 'args'))}")
+        args = item.get("args", {})
+        if not isinstance(args, dict):
+            raise ToolError(f"{where}srdf[{number}].args must be a table: NAME = \"VALUE\"")
+        file = clamp(item["file"], base, f"srdf[{number}].file", repository)
+        robot = clamp(item["robot"], base, f"srdf[{number}].robot", repository)
+        for key, path in (("file", file), ("robot", robot)):
+            if not path.is_file():
+                raise ToolError(f"{where}srdf[{number}]: {item[key]}: no such file")
+        found.append(Companion(file, robot, {str(k): _arg_text(v) for k, v in args.items()}))
+    return found
 
 
 def _arg_text(value) -> str:

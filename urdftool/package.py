@@ -52,6 +52,21 @@ class Target(NamedTuple):
     packages: dict[str, str] = {}  # noqa: RUF012 - never mutated
     configured: bool = False  # listed in ``entries``: always an entry
     args_from: str = ""  # the launch file the arguments were read from (urdftool.launch)
+    # a companion file (an SRDF: issue 31): the robot it describes (a path, or
+    # ``package://NAME/PATH`` resolved by the loader), that robot's xacro arguments, and where the
+    # pairing came from (or, with no robot, what was looked for)
+    robot: str = ""
+    robot_args: dict[str, str] = {}  # noqa: RUF012 - never mutated
+    robot_note: str = ""
+
+
+# companion files (issue 31): checked against the robot they describe, not as robots
+SRDF_SUFFIXES = (".srdf", ".srdf.xacro")
+
+
+def is_companion(path) -> bool:
+    """Whether ``path`` names a companion file (a MoveIt SRDF, plain or xacro)."""
+    return str(path).endswith(SRDF_SUFFIXES)
 
 
 IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")  # colcon/ament/catkin
@@ -277,7 +292,7 @@ def robot_files(directory: Path, selection: Selection | None = None,
                 kept.append(name)
         dirnames[:] = kept
         for name in sorted(filenames):
-            if not name.endswith(ROBOT_SUFFIXES):
+            if not name.endswith(ROBOT_SUFFIXES) and not is_companion(name):
                 continue
             file = here / name
             if selection.excluded(file, patterns, False) is not None:
@@ -414,7 +429,7 @@ def plan(paths: list[str], changed: bool = False, selection: Selection | None = 
         elif path.exists() or path.is_symlink():  # a dangling link: the loader answers
             if given is not None and skipped_alone(path, selection, configs):
                 continue
-            if given is None or path.name.endswith(ROBOT_SUFFIXES):
+            if given is None or path.name.endswith(ROBOT_SUFFIXES) or is_companion(path):
                 files.append(path)  # (changed-files mode: a YAML, a mesh, a launch file only
             if given is not None:  # re-checks the entries that read it: ``triggered``)
                 given.add(str(path.resolve()))
@@ -430,6 +445,14 @@ def plan(paths: list[str], changed: bool = False, selection: Selection | None = 
                 if str(found.resolve()) not in known:
                     known.add(str(found.resolve()))
                     files.append(found)
+        # the SRDFs of the repository: one may describe a robot a given file is part of (their
+        # recorded reads decide which are checked again: ``unaffected``)
+        tops = {git_top(Path(p).parent) for p in given if os.path.lexists(Path(p).parent)}
+        for top in sorted(t for t in tops if t is not None):
+            for found in walk(_shown(top, paths)):
+                if is_companion(found) and str(found.resolve()) not in known:
+                    known.add(str(found.resolve()))
+                    files.append(found)
     targets: list[Target] = []
     configured: set[str] = set()
     for file in files:
@@ -437,7 +460,11 @@ def plan(paths: list[str], changed: bool = False, selection: Selection | None = 
         resolved = real(file)
         packages = config.packages if config is not None else {}
         entries = [e for e in config.entries if str(e.path) == resolved] if config else []
-        if entries:
+        if is_companion(file):
+            robot, robot_args, note = pair_srdf(file, configs)
+            targets.append(Target(str(file), {}, packages, robot=robot, robot_args=robot_args,
+                                  robot_note=note))
+        elif entries:
             configured.add(resolved)
             targets.extend(Target(str(file), e.args, packages, True) for e in entries)
         elif launched := _launched(file, configs):
@@ -460,6 +487,63 @@ def plan(paths: list[str], changed: bool = False, selection: Selection | None = 
             known.add(shown)
             selection.refused.append((shown, why))
     return targets, given
+
+
+SETUP_ASSISTANT = ".setup_assistant"  # a MoveIt configuration's record of its robot
+
+
+def pair_srdf(file: Path, memo: dict) -> tuple[str, dict[str, str], str]:
+    """(the robot an SRDF describes: a path or ``package://NAME/PATH``, its xacro arguments,
+    where that was read) from the configuration's ``srdf`` entries or the MoveIt
+    configuration's ``.setup_assistant`` (in the SRDF's directory or above it, up to its
+    package); ("", {}, what was looked for) when neither names one."""
+    resolved_ = real(file)
+    config = _config_of(file, memo)
+    if config is not None:
+        for companion in config.companions:
+            if str(companion.path) == resolved_:
+                return str(companion.robot), companion.args, f"{config.path.name}: srdf"
+    root = package_root(file)
+    directory = file.resolve().parent
+    while True:
+        candidate = directory / SETUP_ASSISTANT
+        if is_file(candidate):
+            found = _setup_assistant(candidate, memo)
+            if found is not None:
+                return found
+        if directory == root or directory.parent == directory:
+            break
+        directory = directory.parent
+    return "", {}, (f"no {SETUP_ASSISTANT} in {_shown(root, [str(file)]).as_posix() or '.'}" \
+        " and no srdf entry in a urdftool.toml")
+
+
+def _setup_assistant(path: Path, memo: dict) -> tuple[str, dict[str, str], str] | None:
+    """What a ``.setup_assistant`` says of the robot (URDF: package, relative_path,
+    xacro_args), or None when it does not say it."""
+    known = memo.setdefault("assistants", {})
+    if path in known:
+        return known[path]
+    import yaml
+
+    found = None
+    try:
+        data = yaml.safe_load(read_regular(path, 1 << 20).decode("utf-8", "replace"))
+        urdf = data["moveit_setup_assistant_config"]["URDF"]
+        package, relative = urdf.get("package"), urdf.get("relative_path")
+        if isinstance(package, str) and isinstance(relative, str) and package and relative:
+            args: dict[str, str] = {}
+            text = urdf.get("xacro_args") or ""
+            for word in str(text).split():
+                name, sep, value = word.partition(":=")
+                if sep and name:
+                    args[name] = value
+            found = (f"package://{package}/{relative.lstrip('/')}", args,
+                     f"{path.parent.name}/{SETUP_ASSISTANT}")
+    except (OSError, ValueError, KeyError, TypeError, AttributeError, yaml.YAMLError):
+        found = None
+    known[path] = found
+    return found
 
 
 def _launched(file: Path, memo: dict) -> list[tuple[dict[str, str], str]]:
@@ -639,6 +723,7 @@ def triggers(target: Target, report: FileReport, given: set[str]) -> list[str]:
     """The given files other than robot files that the check of ``target`` read: YAML and
     meshes it read, launch files of its package (they choose a xacro file's arguments)."""
     found = [p for p in report.includes if p in given and not p.endswith(ROBOT_SUFFIXES)]
+    found += [p for p in report.companion if p in given]  # the robot of an SRDF
     return found + _launch_triggers(target, given)
 
 
@@ -1147,7 +1232,7 @@ def unaffected(targets: list[Target], given: set[str] | None,
     read_by_others: set[str] = set()
     read_by_entries: set[str] = set()
     for target, reads in zip(targets, last):
-        if reads is not None:
+        if reads is not None and not is_companion(target.path):
             read_by_others.update(reads[0])
             if reads[1] == "entry" or target.configured:
                 read_by_entries.update(reads[0])
@@ -1165,6 +1250,8 @@ def unaffected(targets: list[Target], given: set[str] | None,
         else:
             reports[index] = FileReport(target.path, None)
             reports[index].includes, reports[index].role = reads
+            if is_companion(target.path):  # an SRDF's reads are its robot's files
+                reports[index].includes, reports[index].companion = (), reads[0]
     return todo, reports, waiting
 
 
@@ -1230,7 +1317,8 @@ def store_reads(target: Target, load_options, report: FileReport) -> None:
     if not (cache.ENABLED and cache.WRITABLE) or any(
             d.rule in ("xacro.error", "xacro.limit-exceeded") for d in report.diagnostics):
         return
-    stamps = [_stamp(str(Path(target.path).resolve()))] + [_stamp(p) for p in report.includes]
+    stamps = [_stamp(str(Path(target.path).resolve()))] + [
+        _stamp(p) for p in (*report.includes, *report.companion)]
     if any(s is None for s in stamps):
         return
     cache.store(_reads_entry(target, load_options),

@@ -164,7 +164,8 @@ def merge_repeats(files: list["FileReport"]) -> list["FileReport"]:
 
 
 class FileReport:
-    __slots__ = ("args", "diagnostics", "includes", "missing", "path", "robot", "role", "texts")
+    __slots__ = ("args", "companion", "diagnostics", "includes", "missing", "path", "robot",
+                 "role", "texts")
 
     def __init__(self, path: str, robot: str | None, diagnostics: list[Diagnostic] | None = None,
                  texts: dict[str, str] | None = None):
@@ -177,6 +178,10 @@ class FileReport:
         # files the check asked for that are not there: resolved -> [(file, line) that asked]
         self.missing: dict[str, list[tuple[str, int | None]]] = {}
         self.role = "entry"  # or "fragment": holds only definitions (urdftool.package)
+        # a companion file's check (an SRDF, a controllers YAML: issue 31): the files of the robot
+        # it was checked against (resolved), kept apart from ``includes`` (an SRDF does not make
+        # its robot a fragment); changed-files mode re-checks the companion when one changes
+        self.companion: tuple[str, ...] = ()
 
     def to_json(self, per_rule: int | None = None) -> dict:
         """The file's report; with ``per_rule``, at most that many findings of one rule in one

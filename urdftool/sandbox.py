@@ -78,6 +78,31 @@ def use_for_meshes(roots, options=None) -> None:
         _RUN.update(timeout=options.timeout, memory_mb=options.memory_mb,
                     allow_env=tuple(options.allow_env))
     meshes.PARSER = parse_mesh
+    meshes.TRIANGLE_READER = read_triangles
+
+
+def read_triangles(path: Path):
+    """``meshes.read_triangles`` in the sandboxed reader (under ``--untrusted``)."""
+    from urdftool.xacro_eval import LimitExceeded
+
+    roots = _RUN.get("roots")
+    if roots is None or not roots.readable(path):
+        return "outside what the run may read"
+    try:
+        answer = _child(roots).ask({"op": "triangles", "path": os.fspath(path)},
+                                   _RUN.get("timeout", DEFAULT_TIMEOUT),
+                                   f"reading mesh {Path(path).name}", grace=MESH_GRACE_SECONDS)
+        if "why" in answer:
+            return str(answer["why"])
+        import numpy as np
+
+        vertices = np.asarray(answer["vertices"], dtype=np.float64).reshape(-1, 3)
+        faces = np.asarray(answer["faces"], dtype=np.int64).reshape(-1, 3)
+        if len(faces) and (faces.min() < 0 or faces.max() >= len(vertices)):
+            return "malformed answer"
+        return vertices, faces
+    except (LimitExceeded, SandboxFailure, KeyError, TypeError, ValueError) as exc:
+        return f"{exc}"
 
 
 def parse_large_mesh(path: Path, need_volume: bool):

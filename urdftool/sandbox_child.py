@@ -352,6 +352,17 @@ def _convert(request: dict) -> dict:
     return {"source": sandbox.source_to_json(source), "refused": refused, "choice": choice}
 
 
+def _triangles(request: dict) -> dict:
+    from pathlib import Path
+
+    from urdftool.physics import meshes
+
+    found = meshes._triangles_here(Path(request["path"]))
+    if isinstance(found, str):
+        return {"why": found}
+    return {"vertices": found[0].ravel().tolist(), "faces": found[1].ravel().tolist()}
+
+
 def _mesh(request: dict) -> dict:
     from pathlib import Path
 
@@ -373,6 +384,8 @@ def _answer(request) -> dict:
             return {"ok": _load(request)}
         if op == "mesh":
             return {"ok": _mesh(request)}
+        if op == "triangles":
+            return {"ok": _triangles(request)}
         if op == "convert":
             return {"ok": _convert(request)}
         return {"error": f"unknown request {op!r}"}

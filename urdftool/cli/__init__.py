@@ -285,6 +285,7 @@ def load_options(packages: tuple[str, ...], xacro_args: dict[str, str]):
     meshes = sys.modules.get("urdftool.physics.meshes")
     if not options.untrusted and meshes is not None:  # a trusted run after an untrusted one
         meshes.PARSER = None  # (in one process: tests) parses its meshes itself
+        meshes.TRIANGLE_READER = None
     options.allow_env = tuple(given.get("allow_env") or ())
     if given.get("timeout") is not None:
         options.timeout = given["timeout"]

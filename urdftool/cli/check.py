@@ -153,11 +153,15 @@ FORMATS: dict[str, tuple[Callable[[object, _How], str], bool]] = {
               help="Skip what .gitignore files ignore (default: yes, or the configuration's "
                    "`respect-gitignore`). Folders with COLCON_IGNORE, AMENT_IGNORE or "
                    "CATKIN_IGNORE are always skipped.")
+@click.option("--robot", "robot", type=click.Path(dir_okay=False), metavar="FILE",
+              help="The robot (URDF or xacro) the SRDFs given describe, in place of what their "
+                   "MoveIt configuration (.setup_assistant) or urdftool.toml (srdf) names.")
 @click.pass_context
 def command(ctx, inputs, fmt, config_file, packages, strict, select, ignore, fix, unsafe_fixes,
             diff, output, output_file, extra_outputs,
             show_info, statistics, exit_zero, quiet, in_place, sdf_model, model_paths, no_cache,
-            jobs, changed, baseline, write_baseline, exclude, extend_exclude, respect_gitignore):
+            jobs, changed, baseline, write_baseline, exclude, extend_exclude, respect_gitignore,
+            robot):
     """Lint robot descriptions (*.urdf, *.xacro, *.urdf.xacro, *.sdf); all findings in one pass.
     Without PATH: the current directory.
 
@@ -193,6 +197,7 @@ def command(ctx, inputs, fmt, config_file, packages, strict, select, ignore, fix
     options.load.sdf_model = sdf_model
     options.load.sdf_model_paths = list(model_paths)
     options.jobs = jobs
+    options.robot = robot
     # text and GitHub annotations show a fix's hint, not its edits
     shows_edits = [FORMATS[fmt][1] and not statistics] + [
         FORMATS.get(value.split(":", 1)[0], (None, False))[1] for value in extra_outputs]

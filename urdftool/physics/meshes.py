@@ -379,6 +379,46 @@ def _load(path: Path, need_volume: bool) -> MeshInfo:
                 return _missing(path, exc)
 
 
+MAX_COLLISION_TRIANGLES = 200_000  # a collision mesh tested triangle by triangle (issue 31)
+# reads a mesh's triangles in the sandboxed reader (set under --untrusted, as ``PARSER``)
+TRIANGLE_READER = None
+
+
+def read_triangles(path: Path):
+    """(vertices N x 3, faces M x 3: numpy arrays) of a mesh file in its own coordinates (a DAE's
+    unit applied; its up axis not: None is returned for an ambiguous one, see below), or why
+    not (a one-line string). For collision tests of the meshes themselves (the ``srdf`` rules'
+    sampling): in the sandboxed reader under --untrusted, like every mesh parse."""
+    if TRIANGLE_READER is not None:
+        return TRIANGLE_READER(path)
+    return _triangles_here(path)
+
+
+def _triangles_here(path: Path):
+    if path.suffix.lower() not in LOADABLE or not is_file(path):
+        return "not a mesh file urdftool reads"
+    unit, up = _collada_frame(path)
+    if up is not None:
+        return "its up axis is not known for sure"
+    with _LibraryLog():
+        try:
+            _check_size(path)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                triangles = _read(path)
+        except Exception as exc:  # noqa: BLE001 - any parser failure: not tested
+            return _one_line(f"{type(exc).__name__}: {exc}")
+    if triangles is None:
+        return "no triangles in it"
+    vertices, faces = triangles[0], triangles[1]
+    if len(faces) > MAX_COLLISION_TRIANGLES:
+        return f"{len(faces)} triangles, more than {MAX_COLLISION_TRIANGLES}"
+    import numpy as np
+
+    return (np.asarray(vertices, dtype=np.float64).reshape(-1, 3) * unit,
+            np.asarray(faces, dtype=np.int64).reshape(-1, 3))
+
+
 # larger meshes, and archives, are parsed in the sandboxed reader in every mode (go1's 28 MB
 # trunk.dae, 351k faces, takes 2.8 s: real meshes this size stay in-process with --trusted)
 IN_PROCESS_BYTES = 32 << 20

@@ -18,7 +18,11 @@ from urdftool.model import Robot
 Check = Callable[[Robot], Iterable[Finding]]  # a rule's function (annotations here are evaluated)
 
 FAMILIES = ("xml", "schema", "structure", "joint", "mimic", "inertia", "geometry", "mesh",
-            "material", "gazebo", "transmission", "xacro", "sdf")
+            "material", "gazebo", "transmission", "xacro", "sdf", "srdf", "ros2_control")
+# what a rule's function is given: the robot, or a companion file read beside it (issue 31:
+# ``companion.Srdf`` for "srdf"; ``companion.Controllers`` for "controllers"; the launch file's
+# ``companion.Launch`` for "launch")
+SUBJECTS = ("robot", "srdf", "controllers", "launch")
 
 
 class Rule(NamedTuple):
@@ -30,6 +34,7 @@ class Rule(NamedTuple):
     good: str  # the same example, fixed
     check: Check
     fix: str | None = None  # its findings' edits are "safe" or "unsafe" to apply (None: none)
+    on: str = "robot"  # what ``check`` gives it (``SUBJECTS``)
 
     @property
     def family(self) -> str:
@@ -40,7 +45,7 @@ REGISTRY: dict[str, Rule] = {}
 
 
 def rule(rule_id: str, severity: str, summary: str, *, doc: str = "", bad: str = "", good: str = "",
-         fix: str | None = None):
+         fix: str | None = None, on: str = "robot"):
     """Register a rule function under ``rule_id`` (``FAMILY.NAME``). ``fix``: whether the edits
     its findings carry are ``"safe"`` (the intent is unambiguous, nothing beyond the defect
     changes: applied when checking and by ``check --fix``) or ``"unsafe"`` (they change values
@@ -52,12 +57,14 @@ def rule(rule_id: str, severity: str, summary: str, *, doc: str = "", bad: str =
         raise ValueError(f"severity {severity!r} of {rule_id}")
     if fix not in (None, "safe", "unsafe"):
         raise ValueError(f"fix {fix!r} of {rule_id}")
+    if on not in SUBJECTS:
+        raise ValueError(f"subject {on!r} of {rule_id}")
 
     def register(function: Check):
         if rule_id in REGISTRY:
             raise ValueError(f"rule {rule_id} registered twice")
         REGISTRY[rule_id] = Rule(rule_id, severity, summary, doc.strip(), bad.strip(),
-                                 good.strip(), function, fix)
+                                 good.strip(), function, fix, on)
         return function
 
     return register
