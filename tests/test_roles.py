@@ -279,12 +279,13 @@ def test_a_substitution_in_the_file_name_makes_each_match_an_entry(tmp_path, mon
     root = _launch_package(tmp_path, launch_name, text)
     monkeypatch.chdir(root)
     code, report, err = check(".")
-    files = {f["path"]: f for f in report["files"]}
+    # (the launch file's own report, issue 31: it passes xacro output without a string type)
+    files = {f["path"]: f for f in report["files"] if not f["path"].endswith(".py")}
     assert {p: f["args"] for p, f in files.items()} == {
         "urdf/robot_large.urdf.xacro": {"model": "large", "prefix": ""},
         "urdf/robot_small.urdf.xacro": {"model": "small", "prefix": ""}}
     # the quoted empty default is empty: link names carry no quotes
-    messages = [d["message"] for f in report["files"] for d in f["diagnostics"]]
+    messages = [d["message"] for f in files.values() for d in f["diagnostics"]]
     assert sorted(m.split(":")[0] for m in messages) == ["joint 'large_joint'",
                                                         "joint 'small_joint'"], messages
     assert not any('"' in m.split(":")[0] or "'''" in m for m in messages)

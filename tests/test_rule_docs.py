@@ -13,10 +13,12 @@ RULES = sorted(load_all().values(), key=lambda r: r.id)
 
 
 def _write(tmp_path, text: str, rule=None):
-    """The example as a file; a companion file's (an SRDF: ``rule.on``) beside its robot (its
-    family module's ``EXAMPLE_ROBOT``), named ``robot.urdf``."""
-    if rule is not None and rule.on == "srdf":
-        path = tmp_path / "example.srdf"
+    """The example as a file; a companion file's (an SRDF, a controllers YAML: ``rule.on``)
+    beside its robot (its family module's ``EXAMPLE_ROBOT``), named ``robot.urdf``."""
+    text = text.replace("{dir}", str(tmp_path))  # an example naming a file beside it
+    if rule is not None and rule.on in ("srdf", "controllers", "launch"):
+        path = tmp_path / {"srdf": "example.srdf", "controllers": "controllers.yaml",
+                           "launch": "example.launch.py"}[rule.on]
         path.write_text(text + "\n", encoding="utf-8")
         return path
     suffix = ".sdf" if "<sdf" in text else (".urdf.xacro" if "xmlns:xacro" in text else ".urdf")
@@ -33,7 +35,7 @@ ALONE = {"srdf.no-robot"}
 def _options(tmp_path, rule, bad: bool = False, **kwargs) -> CheckOptions:
     """The options that check ``rule``'s examples: a companion file's with its robot."""
     options = CheckOptions(**kwargs)
-    if rule is not None and rule.on != "robot" and not (bad and rule.id in ALONE):
+    if rule is not None and rule.on in ("srdf", "controllers") and not (bad and rule.id in ALONE):
         import importlib
 
         robot = tmp_path / "robot.urdf"

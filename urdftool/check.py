@@ -110,7 +110,14 @@ def check_once(path: Path | str, options: CheckOptions, load_options=None):
         return companion_once(sys.modules[__name__], path, options, load_options)[:3]
     source = load(path, load_options or options.load)
     robot = build_robot(source)
-    return source, robot, run_rules(robot, source.path, options)
+    diagnostics = run_rules(robot, source.path, options)
+    if source.controllers:  # the controllers YAML its simulator plugin names (issue 31)
+        from urdftool.companion import Controllers
+
+        for data in source.controllers:
+            diagnostics += run_rules(Controllers(data, robot), source.path, options,
+                                     on="controllers")
+    return source, robot, diagnostics
 
 
 def run_rules(subject, default_path: str, options: CheckOptions, on: str = "robot",

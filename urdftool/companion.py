@@ -201,3 +201,29 @@ def is_srdf(root) -> bool:
 SRDF_TAGS = frozenset({"group", "group_state", "end_effector", "virtual_joint", "passive_joint",
                        "disable_collisions", "enable_collisions", "disable_default_collisions",
                        "link_sphere_approximation", "joint_property"})
+
+
+class Controllers:
+    """A controllers YAML (``controllers.read_controllers``' data) and the robot whose
+    ``<ros2_control>`` it drives: what the ``ros2_control`` rules registered ``on="controllers"``
+    are given. ``source`` is the robot's (a YAML finding carries its own location)."""
+
+    __slots__ = ("data", "robot", "source")
+
+    def __init__(self, data: dict, robot: Robot):
+        self.data = data
+        self.robot = robot
+        self.source = robot.source
+
+
+class Launch:
+    """A Python launch file (its text and ``ast`` tree: never run): what the ``ros2_control``
+    rules registered ``on="launch"`` are given."""
+
+    __slots__ = ("path", "source", "text", "tree")
+
+    def __init__(self, path: str, text: str, tree, source):
+        self.path = path
+        self.text = text
+        self.tree = tree  # None when it does not parse
+        self.source = source

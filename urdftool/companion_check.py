@@ -14,12 +14,15 @@ from pathlib import Path
 from urdftool.errors import ToolError
 from urdftool.loader import load, resolver_for
 from urdftool.model import build_robot
-from urdftool.package import Target
+from urdftool.package import SRDF_SUFFIXES, Target, is_launch_file
 from urdftool.roots import real
 
 READING_FAMILIES = ("xml", "xacro")  # what is said of the SRDF file itself
 _ROBOTS: dict[tuple, tuple] = {}  # (path, args, packages) -> (robot, files): a few, per process
 MAX_ROBOTS = 4
+# the robot each SRDF (resolved path) was last checked against: the language server's
+# go-to-definition from an SRDF name to the link or joint (a few, the last ones)
+LAST_ROBOTS: dict[str, object] = {}
 
 
 def _shown(path: Path) -> str:
@@ -104,6 +107,10 @@ def companion_once(pipeline, path: Path | str, options, load_options=None,
     from urdftool.companion import build_srdf, is_srdf
     from urdftool.package import pair_srdf
 
+    if is_launch_file(path):
+        return _launch_once(pipeline, path, options)
+    if not str(path).endswith(SRDF_SUFFIXES):
+        return _controllers_once(pipeline, path, options, target)
     if target is None or not target.robot:
         robot_spec, robot_args, note = pair_srdf(Path(path), {})
         target = (target or Target(str(path)))._replace(robot=robot_spec, robot_args=robot_args,
@@ -123,6 +130,12 @@ def companion_once(pipeline, path: Path | str, options, load_options=None,
             why = "no robot is known for this SRDF" + (f" ({target.robot_note})"
                                                        if target.robot_note else "")
         srdf = build_srdf(source, robot, shown)
+        if robot is not None:
+            key = real(source.path)
+            LAST_ROBOTS.pop(key, None)
+            LAST_ROBOTS[key] = robot
+            while len(LAST_ROBOTS) > 2 * MAX_ROBOTS:
+                LAST_ROBOTS.pop(next(iter(LAST_ROBOTS)))
         if robot is None:
             srdf.missing = why + (f" (named by {target.robot_note})" if spec and
                                   target.robot_note else "")
@@ -135,10 +148,74 @@ def companion_once(pipeline, path: Path | str, options, load_options=None,
     return source, holder, diagnostics, files
 
 
+MAX_LAUNCH_BYTES = 1 << 20
+
+
+def _launch_once(pipeline, path: Path | str, options):
+    """(source, holder, diagnostics, ()) of a Python launch file: its ``ast`` (never run)
+    given to the rules registered ``on="launch"``."""
+    import ast
+
+    from urdftool.companion import Launch
+    from urdftool.files import read_regular
+    from urdftool.source import Source
+
+    try:
+        text = read_regular(Path(path), MAX_LAUNCH_BYTES).decode("utf-8", "replace")
+    except OSError as exc:
+        raise ToolError(f"{path}: {exc.strerror or exc}") from None
+    source = Source(str(path), "urdf", texts={str(path): text})
+    holder = build_robot(source)
+    try:
+        tree = ast.parse(text, str(path))
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        tree = None  # (not judged: a launch file that does not parse fails on its own)
+    diagnostics = pipeline.run_rules(Launch(str(path), text, tree, source), str(path), options,
+                                     on="launch")
+    return source, holder, diagnostics, ()
+
+
+def _controllers_once(pipeline, path: Path | str, options, target: Target | None):
+    """(source, holder, diagnostics, the robot's files) of a controllers YAML given by name:
+    its controllers (``controllers.read_controllers``) against the robot named by ``--robot``
+    (``srdf.no-robot``'s counterpart is a one-line ToolError: a YAML is checked only when its
+    robot is given)."""
+    from urdftool.companion import Controllers
+    from urdftool.controllers import read_controllers
+    from urdftool.files import read_regular
+    from urdftool.source import Source
+
+    target = target if target is not None else Target(str(path))
+    spec = options.robot or target.robot
+    if not spec:
+        raise ToolError(f"{path}: a controllers YAML is checked against its robot: give --robot "
+                        "FILE (a robot's own check reads the YAML its simulator plugin names)")
+    try:
+        text = read_regular(Path(path), 1 << 20).decode("utf-8", "replace")
+    except OSError as exc:
+        raise ToolError(f"{path}: {exc.strerror or exc}") from None
+    source = Source(str(path), "urdf", texts={str(path): text})
+    holder = build_robot(source)
+    data = read_controllers(text, str(path))
+    if isinstance(data, str):
+        raise ToolError(f"{path}: not a YAML urdftool reads: {data}")
+    robot, files, _, why = load_robot(spec, str(path), options, target, pipeline)
+    if robot is None:
+        raise ToolError(f"{path}: {why}")
+    diagnostics = pipeline.run_rules(Controllers(data, robot), str(path), options,
+                                     on="controllers")
+    return source, holder, diagnostics, files
+
+
 def check_companion(pipeline, path: Path | str, options, target: Target | None = None):
     """(the report of an SRDF, the model of its document for the language server)."""
     source, holder, diagnostics, files = companion_once(pipeline, path, options, None, target)
     report = pipeline.finish(source, holder, diagnostics, source.texts)
     report.args = target.args if target is not None else {}
     report.companion = files
+    from urdftool.companion import is_srdf
+
+    if report.role == "entry" or source.root is None or is_srdf(source.root):
+        report.role = "companion"  # (never counted as a robot, never a fragment; an SRDF's
+        # macro file, a <robot> of definitions only, stays a fragment of its includer)
     return report, holder

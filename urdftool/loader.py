@@ -231,6 +231,9 @@ def load(path: str | Path, options: LoadOptions | None = None) -> Source:
         expand(source, file_path, options)
     if kind != "sdf":
         find_unread(source, options)
+        from urdftool.controllers import read_companions
+
+        read_companions(source, options)
     else:
         from urdftool.sdf import load_sdf
 

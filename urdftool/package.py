@@ -65,8 +65,22 @@ SRDF_SUFFIXES = (".srdf", ".srdf.xacro")
 
 
 def is_companion(path) -> bool:
-    """Whether ``path`` names a companion file (a MoveIt SRDF, plain or xacro)."""
+    """Whether ``path`` names a companion file checked against a robot: a MoveIt SRDF (plain
+    or xacro; found in directories like robot files), or a controllers YAML (checked when
+    given by name; a robot's own check reads the one its simulator plugin names)."""
+    return str(path).endswith(SRDF_SUFFIXES + (".yaml", ".yml")) or is_launch_file(path)
+
+
+def is_srdf_file(path) -> bool:
     return str(path).endswith(SRDF_SUFFIXES)
+
+
+def is_launch_file(path) -> bool:
+    """A Python launch file (``*.launch.py``, or a ``.py`` in a ``launch`` folder): checked by
+    the ``ros2_control`` rules given ``on="launch"`` (never run)."""
+    path = Path(path)
+    return path.name.endswith(".launch.py") or (path.suffix == ".py" and
+                                                path.parent.name == "launch")
 
 
 IGNORE_MARKERS = ("COLCON_IGNORE", "AMENT_IGNORE", "CATKIN_IGNORE")  # colcon/ament/catkin
@@ -292,7 +306,8 @@ def robot_files(directory: Path, selection: Selection | None = None,
                 kept.append(name)
         dirnames[:] = kept
         for name in sorted(filenames):
-            if not name.endswith(ROBOT_SUFFIXES) and not is_companion(name):
+            if not name.endswith(ROBOT_SUFFIXES) and not is_srdf_file(name) and not \
+                    is_launch_file(here / name):
                 continue
             file = here / name
             if selection.excluded(file, patterns, False) is not None:
@@ -429,7 +444,8 @@ def plan(paths: list[str], changed: bool = False, selection: Selection | None = 
         elif path.exists() or path.is_symlink():  # a dangling link: the loader answers
             if given is not None and skipped_alone(path, selection, configs):
                 continue
-            if given is None or path.name.endswith(ROBOT_SUFFIXES) or is_companion(path):
+            if given is None or path.name.endswith(ROBOT_SUFFIXES) or is_srdf_file(path) or \
+                    is_launch_file(path):
                 files.append(path)  # (changed-files mode: a YAML, a mesh, a launch file only
             if given is not None:  # re-checks the entries that read it: ``triggered``)
                 given.add(str(path.resolve()))
@@ -448,9 +464,15 @@ def plan(paths: list[str], changed: bool = False, selection: Selection | None = 
         # the SRDFs of the repository: one may describe a robot a given file is part of (their
         # recorded reads decide which are checked again: ``unaffected``)
         tops = {git_top(Path(p).parent) for p in given if os.path.lexists(Path(p).parent)}
+        # and its robot files that name a given YAML (a controllers file a simulator plugin's
+        # <parameters> gives: the robot's check reads it), found by the YAML's file name
+        yaml_names = {Path(p).name for p in given if p.endswith((".yaml", ".yml"))}
         for top in sorted(t for t in tops if t is not None):
             for found in walk(_shown(top, paths)):
-                if is_companion(found) and str(found.resolve()) not in known:
+                if str(found.resolve()) in known:
+                    continue
+                if is_srdf_file(found) or (yaml_names and found.name.endswith(ROBOT_SUFFIXES)
+                                           and _names_any(found, yaml_names)):
                     known.add(str(found.resolve()))
                     files.append(found)
     targets: list[Target] = []
@@ -460,10 +482,11 @@ def plan(paths: list[str], changed: bool = False, selection: Selection | None = 
         resolved = real(file)
         packages = config.packages if config is not None else {}
         entries = [e for e in config.entries if str(e.path) == resolved] if config else []
-        if is_companion(file):
+        if is_srdf_file(file):  # (a .srdf.xacro with the arguments its launch files pass)
             robot, robot_args, note = pair_srdf(file, configs)
-            targets.append(Target(str(file), {}, packages, robot=robot, robot_args=robot_args,
-                                  robot_note=note))
+            targets.extend(Target(str(file), args, packages, args_from=where, robot=robot,
+                                  robot_args=robot_args, robot_note=note)
+                           for args, where in _launched(file, configs) or [({}, "")])
         elif entries:
             configured.add(resolved)
             targets.extend(Target(str(file), e.args, packages, True) for e in entries)
@@ -546,6 +569,14 @@ def _setup_assistant(path: Path, memo: dict) -> tuple[str, dict[str, str], str] 
     return found
 
 
+def _names_any(file: Path, names: set[str]) -> bool:
+    try:
+        text = read_head(file, HEAD_BYTES * 16).decode("utf-8", "replace")
+    except OSError:
+        return False
+    return any(name in text for name in names)
+
+
 def _launched(file: Path, memo: dict) -> list[tuple[dict[str, str], str]]:
     """The argument sets the launch files of ``file``'s package pass to it (memoised per
     package), for a xacro file the configuration does not list."""
@@ -603,6 +634,10 @@ def classify(targets: list[Target], reports: list[FileReport],
     shown: list[int] = []
     fragments: set[str] = set()
     for i, report in enumerate(reports):
+        if report.role == "companion":  # an SRDF, a launch file: shown, not a robot's role
+            if report.diagnostics or not is_launch_file(report.path):  # (a launch file only
+                shown.append(i)  # when it has something to say)
+            continue
         if roles[i] == "entry" and (targets[i].configured or resolved[i] not in read_by_entry):
             shown.append(i)
             refused = bool(selection is not None and selection.refused)

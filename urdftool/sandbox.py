@@ -463,6 +463,7 @@ def source_to_json(source) -> dict:
             "unread": source.unread, "reads": sorted(source.reads),
             "missing": {path: [_loc_json(loc) for loc in where]
                         for path, where in source.missing.items()},
+            "controllers": source.controllers,
             "files_read": files_read, "lost": list(source.lost),
             "defaults": source.defaults,
             "problems": [[rule, f.message, _loc_json(f.loc), f.hint, f.severity,
@@ -520,6 +521,9 @@ def source_from_json(data, path: str):
         source.lost = tuple(text(n, False) for n in data.get("lost", ()))
         source.defaults = {text(n, False): static is True
                            for n, static in dict(data.get("defaults", {})).items()}
+        from urdftool.controllers import checked
+
+        source.controllers = checked(data.get("controllers"))
         for rule, message, where, hint, severity, edits in data["problems"]:
             source.add(text(rule, False), Finding(text(message, False), loc(where), text(hint),
                                                   text(severity), tuple(map(edit, edits))))

@@ -74,8 +74,8 @@ class LoadOptions:
 class Source:
     """One input file, read and (for xacro) expanded."""
 
-    __slots__ = ("_xpaths", "defaults", "kind", "lines", "locs", "lost", "missing", "path",
-                 "problems", "reads", "resolver", "root", "texts", "unread")
+    __slots__ = ("_xpaths", "controllers", "defaults", "kind", "lines", "locs", "lost", "missing",
+                 "path", "problems", "reads", "resolver", "root", "texts", "unread")
 
     def __init__(self, path: str, kind: str, root: etree._Element | None = None,
                  problems: list[tuple[str, Finding]] | None = None,
@@ -90,6 +90,9 @@ class Source:
         # files the reading asked for that are not there (an include, a YAML file): resolved
         # path -> the Locs that asked (a deleted file's includers: ``check --changed``)
         self.missing: dict[str, list[Loc]] = {}
+        # the controllers YAML its simulator plugins name, as ``controllers.read_controllers``
+        # gives them (issue 31: the ``ros2_control`` rules)
+        self.controllers: list = []
         # files an <include> names that were not read (unprefixed, hence never processed):
         # shown path -> text (``find_unread``)
         self.unread: dict[str, str] = {}

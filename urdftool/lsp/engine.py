@@ -27,7 +27,15 @@ from urdftool.check import CheckOptions, check_model, run_report
 from urdftool.config import Config, load_config
 from urdftool.errors import ToolError
 from urdftool.loader import run_roots
-from urdftool.package import Selection, Target, package_root, plan, with_operator_args
+from urdftool.package import (
+    Selection,
+    Target,
+    is_launch_file,
+    is_srdf_file,
+    package_root,
+    plan,
+    with_operator_args,
+)
 from urdftool.report import Diagnostic, FileReport
 from urdftool.source import ROBOT_SUFFIXES, LoadOptions
 
@@ -142,6 +150,11 @@ class Result(NamedTuple):
 
 
 @functools.lru_cache(maxsize=8192)
+def _planned_kind(name: str) -> bool:
+    """A file ``check DIR`` plans a check of: a robot file, an SRDF, a launch file."""
+    return name.endswith(ROBOT_SUFFIXES) or is_srdf_file(name) or is_launch_file(name)
+
+
 def _resolved(path: str) -> str:
     return str(Path(path).resolve())
 
@@ -225,7 +238,7 @@ class Engine:
                                       if r is not None):
                 continue
             if inside and (name in CONFIGURATIONS or (
-                    name.endswith(ROBOT_SUFFIXES) and key not in self._paths(unit))):
+                    _planned_kind(name) and key not in self._paths(unit))):
                 unit.planned = False
                 continue
             for index, report in enumerate(unit.reports):
@@ -235,7 +248,8 @@ class Engine:
 
     @staticmethod
     def _reads(report: FileReport) -> set[str]:
-        return {resolved(report.path), *report.includes}
+        # (an SRDF's check reads its robot's files too: editing the URDF re-checks it)
+        return {resolved(report.path), *report.includes, *report.companion}
 
     @staticmethod
     def _paths(unit: Unit) -> set[str]:
@@ -251,13 +265,13 @@ class Engine:
         for unit in self.units.values():
             if any(r is not None and key in self._reads(r) for r in unit.reports):
                 return unit
-        if not key.endswith(ROBOT_SUFFIXES) and Path(key).name not in CONFIGURATIONS:
+        if not _planned_kind(key) and Path(key).name not in CONFIGURATIONS:
             return None
         root = self._root(Path(key))
         unit = self.units.get(root)
         if unit is None:
             unit = self.units[root] = Unit(root)
-        elif unit.planned and key not in self._paths(unit) and key.endswith(ROBOT_SUFFIXES):
+        elif unit.planned and key not in self._paths(unit) and _planned_kind(key):
             unit.planned = False  # a new file of the package
         return unit
 
@@ -269,7 +283,7 @@ class Engine:
             return root
         count = 0
         for _, _, names in os.walk(root):
-            count += sum(name.endswith(ROBOT_SUFFIXES) for name in names)
+            count += sum(_planned_kind(name) for name in names)
             if count > MAX_LOOSE_FILES:
                 return file  # a loose file among many: alone
         return root

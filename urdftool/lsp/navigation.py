@@ -480,7 +480,58 @@ def definition(view: View, position: lsp.Position) -> list[lsp.Location] | None:
                     location = view.location(loc.path, loc.line - 1, (loc.column or 1) - 1)
                     if location not in found:
                         found.append(location)
+    if not found:
+        found = _companion_definition(view, tag, attribute, offset)
     return found or None
+
+
+# issue 31: the names an SRDF gives (tag, attribute) -> what they name
+SRDF_NAMES = {("link", "name"): "link", ("chain", "base_link"): "link",
+              ("chain", "tip_link"): "link", ("end_effector", "parent_link"): "link",
+              ("virtual_joint", "child_link"): "link", ("disable_collisions", "link1"): "link",
+              ("disable_collisions", "link2"): "link", ("enable_collisions", "link1"): "link",
+              ("enable_collisions", "link2"): "link", ("disable_default_collisions", "link"): "link",
+              ("link_sphere_approximation", "link"): "link", ("joint", "name"): "joint",
+              ("passive_joint", "name"): "joint", ("joint_property", "joint_name"): "joint"}
+
+
+def _companion_definition(view: View, tag, attribute, offset: int) -> list[lsp.Location]:
+    """Go-to-definition from a name in a companion file to the robot's link or joint: an SRDF
+    (its robot: the one its last check read, ``companion_check.LAST_ROBOTS``), a controllers
+    YAML (the robots whose checks read it: a joint name under the cursor)."""
+    from urdftool.companion_check import LAST_ROBOTS
+
+    if view.key is None or view.text is None:
+        return []
+    robots, kinds, name = [], ("link", "joint"), None
+    if view.key.endswith((".srdf", ".srdf.xacro")) and tag is not None and attribute:
+        robot = LAST_ROBOTS.get(view.key)
+        kind = SRDF_NAMES.get((tag.name, attribute))
+        if robot is None or kind is None:
+            return []
+        robots, kinds, name = [robot], (kind,), tag.attributes[attribute][0].strip()
+    elif view.key.endswith((".yaml", ".yml")):
+        word = word_at(view.text, offset)
+        if word is None:
+            return []
+        name = word[0]
+        robots = [robot for result in list(view.server.engine.snapshot.values())
+                  for report, robot in result.checks
+                  if robot is not None and view.key in report.includes]
+        kinds = ("joint",)
+    found: list[lsp.Location] = []
+    for robot in robots:
+        for kind in kinds:
+            for target in _named_elements(robot, kind, name):
+                loc = robot.source.loc(target)
+                if loc.line is None:
+                    continue
+                lines = (view.server.text_of(loc.path) or "").split("\n")
+                start = view.server.position(lines, loc.line - 1, (loc.column or 1) - 1)
+                location = lsp.Location(view.server.uri_of(loc.path), lsp.Range(start, start))
+                if location not in found:
+                    found.append(location)
+    return found
 
 
 def _included(view: View, tag: Tag) -> list[str]:

@@ -118,11 +118,20 @@ class UrdfLanguageServer(LanguageServer):
             document = self.workspace.text_documents.get(uri)
             if document is not None:
                 return document.source
+        read = False
         for result in self.engine.snapshot.values():
             for report, _ in result.checks:
                 for name, text in report.texts.items():
                     if resolved(name) == key:
                         return text
+                read = read or key in report.includes
+        if read:  # a file the check read but keeps no text of (a controllers YAML: issue 31)
+            from urdftool.files import read_regular
+
+            try:
+                return read_regular(key, 1 << 20).decode("utf-8", "replace")
+            except OSError:
+                return None
         return None
 
     def units(self, n: int, text: str) -> int:

@@ -539,8 +539,7 @@ def adjacent_pairs(robot) -> set[tuple[str, str]]:
       doc="""The Setup Assistant marks a pair `Adjacent` when the links are joined by a joint
 (links without collision geometry passed through). A pair so marked that is not adjacent was
 labelled by hand: if the links can touch, the planner was told to ignore it. MoveIt does not
-read the reason, so the label alone changes nothing: a warning. When the pair really may
-collide, `srdf.never-pair-collides`' sampling is run on it as well.""",
+read the reason, so the label alone changes nothing: a warning.""",
       bad=_example('  <disable_collisions link1="base_link" link2="forearm" reason="Adjacent"/>'),
       good=_example('  <disable_collisions link1="base_link" link2="upper_arm" reason="Adjacent"/>'),
       on="srdf")
@@ -585,13 +584,13 @@ def collision_shapes(robot, link_name: str) -> list:
 
 
 def _pairs_to_sample(srdf):
-    """The disabled pairs whose links are both known, not adjacent, and marked Never (or
-    Adjacent where they are not): first occurrence of each."""
+    """The disabled pairs marked Never whose links are both known and not adjacent: first
+    occurrence of each."""
     robot = srdf.robot
     adjacent = adjacent_pairs(robot)
     seen = set()
     for pair in srdf.pairs:
-        if pair.enable or pair.reason not in ("Never", "Adjacent"):
+        if pair.enable or pair.reason != "Never":
             continue
         key = _pair_key(pair)
         if key is None or key in seen or key in adjacent or key[0] == key[1]:
@@ -613,8 +612,8 @@ following their leaders), places their collision shapes (primitives, and the con
 meshes) by forward kinematics and tests them for overlap (GJK). A finding gives the
 configuration where they overlap most and the penetration (the shortest separating
 translation found). Sampling shows a collision; it never proves that there is none: a pair
-without a finding was not proven safe. Pairs marked Adjacent that are not adjacent are sampled
-too.""",
+without a finding was not proven safe. Links joined rigidly (no moving joint between them)
+touch always or never: not sampled.""",
       bad=_example('  <disable_collisions link1="base_link" link2="forearm" reason="Never"/>'),
       good=_example('  <disable_collisions link1="base_link" link2="upper_arm" reason="Adjacent"/>'),
       on="srdf")
@@ -640,6 +639,8 @@ def never_pair_collides(srdf):
         # one that cannot be read is the mesh rules' business)
         overlap = exact_overlap(shapes[a], shapes[b]) if exact else None
         route = path(robot, a, b)
+        if not route.variables:
+            continue  # rigidly joined: they touch always or never (the label, not a risk)
         found, tested = contacts(route, [i.extent for i in shapes[a]],
                                  [i.extent for i in shapes[b]], overlap, budget.spent)
         if not found:
