@@ -385,10 +385,10 @@ TRIANGLE_READER = None
 
 
 def read_triangles(path: Path):
-    """(vertices N x 3, faces M x 3: numpy arrays) of a mesh file in its own coordinates (a DAE's
-    unit applied; its up axis not: None is returned for an ambiguous one, see below), or why
-    not (a one-line string). For collision tests of the meshes themselves (the ``srdf`` rules'
-    sampling): in the sandboxed reader under --untrusted, like every mesh parse."""
+    """(vertices N x 3, faces M x 3: numpy arrays) of a mesh file as the summaries read it (a
+    DAE's unit applied, ``_collada_unit``), or why not (a one-line string). For collision
+    tests of the meshes themselves (the ``srdf`` rules' sampling): in the sandboxed reader
+    under --untrusted, like every mesh parse."""
     if TRIANGLE_READER is not None:
         return TRIANGLE_READER(path)
     return _triangles_here(path)
@@ -397,9 +397,7 @@ def read_triangles(path: Path):
 def _triangles_here(path: Path):
     if path.suffix.lower() not in LOADABLE or not is_file(path):
         return "not a mesh file urdftool reads"
-    unit, up = _collada_frame(path)
-    if up is not None:
-        return "its up axis is not known for sure"
+    unit = _collada_unit(path)  # (as every ROS tool reads a COLLADA file: no up-axis turn)
     with _LibraryLog():
         try:
             _check_size(path)
