@@ -129,6 +129,11 @@ def _panda() -> tuple[Path, Path]:
     return root / "urdf" / "panda.urdf", root / "srdf" / "panda.srdf"
 
 
+def _robot_args(urdf) -> tuple[str, ...]:
+    """--robot URDF and its package (its meshes are package://example-robot-data/...)."""
+    return ("--robot", str(urdf), "-P", f"example-robot-data={example_robot_data_dir()}")
+
+
 SEEDS = [  # (what is replaced, by what, the rule, its severity)
     ('<joint name="panda_joint7"/>\n    </group>', '<joint name="panda_joint77"/>\n    </group>',
      "srdf.unknown-joint", "error"),
@@ -155,7 +160,7 @@ SEEDS = [  # (what is replaced, by what, the rule, its severity)
 
 def test_the_real_panda_srdf_is_clean(tmp_path):
     urdf, srdf = _panda()
-    result = run_urdftool("check", str(srdf), "--robot", str(urdf), "--format", "json")
+    result = run_urdftool("check", str(srdf), *_robot_args(urdf), "--format", "json")
     assert result.code == 0, result.out
     assert json.loads(result.out)["summary"]["errors"] == 0
     assert json.loads(result.out)["summary"]["warnings"] == 0
@@ -171,7 +176,7 @@ def test_every_seeded_defect_is_found_at_its_line(tmp_path, old, new, rule, seve
                                              start=1) if a != b)  # the first line changed
     path = tmp_path / "panda.srdf"
     path.write_text(seeded, encoding="utf-8")
-    result = run_urdftool("check", str(path), "--robot", str(urdf), "--format", "json")
+    result = run_urdftool("check", str(path), *_robot_args(urdf), "--format", "json")
     found = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]]
     assert [(d["rule"], d["severity"]) for d in found] == [(rule, severity)], found
     if rule != "srdf.state-incomplete":  # (a deleted line: found at its group state)
@@ -187,7 +192,7 @@ def test_a_seeded_never_pair_of_the_real_panda_collides_by_pinocchio_and_coal(tm
     assert "panda_link5\" link2=\"panda_link0" not in text and pair not in text
     path = tmp_path / "panda.srdf"
     path.write_text(text.replace("</robot>", f"    {pair}\n</robot>"), encoding="utf-8")
-    result = run_urdftool("check", str(path), "--robot", str(urdf), "--format", "json")
+    result = run_urdftool("check", str(path), *_robot_args(urdf), "--format", "json")
     found = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]]
     assert [d["rule"] for d in found] == ["srdf.never-pair-collides"]
     q = _configuration(found[0]["message"].split(" at ", 1)[1].split(" their ")[0])
