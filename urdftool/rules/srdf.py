@@ -117,33 +117,32 @@ URDF is clearly meant.""",
       good=_example('  <disable_collisions link1="base_link" link2="upper_arm" reason="Adjacent"/>'),
       fix="safe", on="srdf")
 def unknown_link(srdf):
-    links = set(_links(srdf))
-    candidates = _links(srdf)
-
-    def check(ref, where, severity, consequence):
-        if ref.name is not None and ref.name not in links and "$" not in ref.name:
-            yield _unknown(srdf, ref, candidates, "link", where, severity, consequence)
-
+    places = []
     for group in srdf.groups:
-        for ref in group.links:
-            yield from check(ref, f"group '{group.name}'", None,
-                             "MoveIt leaves it out of the group")
-        for chain in group.chains:
-            for ref in (chain.base, chain.tip):
-                yield from check(ref, f"chain of group '{group.name}'", None,
-                                 "MoveIt drops the chain")
-    for eef in srdf.end_effectors:
-        yield from check(eef.parent_link, f"end effector '{eef.name}'", None,
-                         "MoveIt drops the end effector")
-    for virtual in srdf.virtual_joints:
-        yield from check(virtual.child, f"virtual joint '{virtual.name}'", None,
-                         "MoveIt drops the virtual joint")
-    for pair in srdf.pairs:
-        for ref in (pair.link1, pair.link2):
-            yield from check(ref, f"<{ref.tag}>", "warning",
-                             "MoveIt skips the entry ('Cannot disable collisions')")
-    for ref in (*srdf.default_disabled, *srdf.spheres):
-        yield from check(ref, f"<{ref.tag}>", "warning", "MoveIt skips the entry")
+        places += [(ref, f"group '{group.name}'", None, "MoveIt leaves it out of the group")
+                   for ref in group.links]
+        places += [(ref, f"chain of group '{group.name}'", None, "MoveIt drops the chain")
+                   for chain in group.chains for ref in (chain.base, chain.tip)]
+    places += [(eef.parent_link, f"end effector '{eef.name}'", None,
+                "MoveIt drops the end effector") for eef in srdf.end_effectors]
+    places += [(virtual.child, f"virtual joint '{virtual.name}'", None,
+                "MoveIt drops the virtual joint") for virtual in srdf.virtual_joints]
+    places += [(ref, f"<{ref.tag}>", "warning",
+                "MoveIt skips the entry ('Cannot disable collisions')")
+               for pair in srdf.pairs for ref in (pair.link1, pair.link2)]
+    places += [(ref, f"<{ref.tag}>", "warning", "MoveIt skips the entry")
+               for ref in (*srdf.default_disabled, *srdf.spheres)]
+    return _unknown_names(srdf, "link", _links(srdf), places)
+
+
+def _unknown_names(srdf, what: str, known, places):
+    """The findings of the names among ``places`` ((ref, where, severity, consequence)) that
+    ``known`` lacks (names written for substitution, with ``$``, are not judged)."""
+    candidates = list(dict.fromkeys(known))
+    known = set(candidates)
+    for ref, where, severity, consequence in places:
+        if ref.name is not None and ref.name not in known and "$" not in ref.name:
+            yield _unknown(srdf, ref, candidates, what, where, severity, consequence)
 
 
 @rule("srdf.unknown-joint", "error", "an SRDF names a joint the URDF does not have",
@@ -159,25 +158,13 @@ URDF. Ignoring." (warnings: nothing is planned differently, but the entry does n
                     '    <joint name="joint2" value="0"/>\n  </group_state>'),
       fix="safe", on="srdf")
 def unknown_joint(srdf):
-    known = _known_joints(srdf)
-    candidates = sorted(known)
-
-    def check(ref, where, severity, consequence):
-        if ref.name is not None and ref.name not in known and "$" not in ref.name:
-            yield _unknown(srdf, ref, candidates, "joint", where, severity, consequence)
-
-    for group in srdf.groups:
-        for ref in group.joints:
-            yield from check(ref, f"group '{group.name}'", None,
-                             "MoveIt leaves it out of the group")
-    for state in srdf.group_states:
-        for joint in state.joints:
-            yield from check(joint.ref, f"group state '{state.name}'", None,
-                             "MoveIt ignores its value")
-    for ref in srdf.passive_joints:
-        yield from check(ref, "<passive_joint>", "warning", "MoveIt ignores it")
-    for ref in srdf.joint_properties:
-        yield from check(ref, "<joint_property>", "warning", "MoveIt ignores it")
+    places = [(ref, f"group '{group.name}'", None, "MoveIt leaves it out of the group")
+              for group in srdf.groups for ref in group.joints]
+    places += [(joint.ref, f"group state '{state.name}'", None, "MoveIt ignores its value")
+               for state in srdf.group_states for joint in state.joints]
+    places += [(ref, f"<{ref.tag}>", "warning", "MoveIt ignores it")
+               for ref in (*srdf.passive_joints, *srdf.joint_properties)]
+    return _unknown_names(srdf, "joint", sorted(_known_joints(srdf)), places)
 
 
 @rule("srdf.unknown-group", "error", "an SRDF names a group it does not define",
