@@ -184,8 +184,9 @@ def test_every_seeded_defect_is_found_at_its_line(tmp_path, old, new, rule, seve
 
 
 def test_a_seeded_never_pair_of_the_real_panda_collides_by_pinocchio_and_coal(tmp_path):
-    pin = pytest.importorskip("pinocchio")
-    coal = pytest.importorskip("coal")
+    import coal
+    import pinocchio as pin
+
     urdf, srdf = _panda()
     text = srdf.read_text(encoding="utf-8")
     pair = '<disable_collisions link1="panda_link0" link2="panda_link5" reason="Never"/>'
