@@ -909,11 +909,18 @@ def _name_template_arguments(report: FileReport, target: Target, refused: bool =
     causes: list[str] = []
     first = None
     kept = []
+    from urdftool.rules.xacro import classify
+
     for d in report.diagnostics:
         cause = None
-        if d.rule == "xacro.error" and d.severity == "error":
+        kind = classify(d.message)[0] if d.rule == "xacro.error" and d.severity == "error" \
+            else None
+        if kind in ("bad-expression", "other"):  # the expression is in the message
+            cause = _mentions(d.message, carriers)
+        elif kind in ("missing-include", "unknown-package"):  # the include's file name
             cause = _mentions(d.message, carriers) or _mentions(
                 _element_text(report.texts.get(d.path, ""), d.line, d.column), carriers)
+        # (a macro's parameters, an undefined name: not what an empty value causes)
         if cause is None:
             kept.append(d)
             continue
@@ -931,7 +938,7 @@ def _name_template_arguments(report: FileReport, target: Target, refused: bool =
     given = ", ".join(f'{name} = "..."' for name in causes)
     warning = first._replace(
         severity="warning", fix=None, instances=1, call_sites=(),
-        message=f"xacro: the entry is an argument template: {names} default"
+        message=f"xacro: the entry {file} is an argument template: {names} default"
                 f"{'s' if len(causes) == 1 else ''} to \"\" and {how}; expanded with the "
                 "empty default it fails, so it was not checked",
         hint=f'give the arguments its launch files pass in urdftool.toml: entries = [{{ file = '
