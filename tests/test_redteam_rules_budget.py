@@ -160,7 +160,13 @@ def _counted(out: str, rule: str) -> tuple[int, list[str]]:
     return sum(d["rule"] == rule for d in diagnostics) + omitted, late
 
 
-@pytest.mark.parametrize("case", CASES, ids=[c.__name__ for c in CASES])
+# make test runs two kinds (a chain, references); every kind in CI (`slow`): the
+# --timeout 1 test below runs each kind once in make test
+FAST = (mimic_chain, gazebo_references)
+
+
+@pytest.mark.parametrize("case", [c if c in FAST else pytest.param(c, marks=pytest.mark.slow)
+                                  for c in CASES], ids=[c.__name__ for c in CASES])
 def test_rules_walking_chains_and_names_are_linear(case, tmp_path):
     runs = {}
     for n in (SIZE, 2 * SIZE):
