@@ -537,6 +537,7 @@ class RigidBodies:
             if joint.parent is not None:
                 self.children.setdefault(joint.parent, []).append(joint)
         self._subtree: dict[str, float] | None = None  # link -> subtree mass, made once
+        self._massive: set[str] | None = None  # links with mass at or below them
         # per body, made once (issue 28): link -> its body's root, root -> members, ...
         self._body_roots: dict[str, str] = {}
         self._body_members: dict[str, list] = {}
@@ -570,7 +571,28 @@ class RigidBodies:
         known = self._subtree.get(name)
         if known is not None:
             return known
+        if name not in self._above_mass():  # nothing with mass below: no walk (issue 28)
+            return 0.0
         return sum(self.mass.get(n, 0.0) for n in self._descendants(name, False))
+
+    def _above_mass(self) -> set[str]:
+        """The links with a mass of their own or below them (through any joint), found once:
+        one walk up from every link with mass (a link below two parents, a loop: the walks
+        per link that ``subtree_mass`` makes otherwise were quadratic)."""
+        if self._massive is None:
+            parents: dict[str, list[str]] = {}
+            for joint in self.robot.joints:
+                if joint.child is not None and joint.parent is not None:
+                    parents.setdefault(joint.child, []).append(joint.parent)
+            found = {name for name, m in self.mass.items() if m != 0}
+            stack = list(found)
+            while stack:
+                for parent in parents.get(stack.pop(), ()):
+                    if parent not in found:
+                        found.add(parent)
+                        stack.append(parent)
+            self._massive = found
+        return self._massive
 
     def _subtree_masses(self) -> dict[str, float]:
         """Subtree masses of the links below the roots when every link has at most one parent

@@ -498,14 +498,25 @@ def _cut_off_reason(robot, name: str, known: set[str], on_loop: set[str]) -> str
     """Why a link with a parent joint is still cut off from the root; None when it hangs below
     an undefined link or a loop (``structure.missing-link`` or ``structure.loop`` reports that
     cause, with the links it cuts off)."""
-    node, visited = name, {name}
-    while True:
+    memo = robot.memo.setdefault("cut_off_reasons", {})  # each link's walk is its parent's
+    node, visited, path = name, {name}, []
+    while True:  # (issue 28: a walk to the top per link was quadratic in a long chain)
+        if node in memo:
+            reason = memo[node]
+            break
+        path.append(node)
         joint = robot.parent_joint(node)
         if joint is None or joint.parent is None:
-            return "its chain of parent joints does not reach the root"
+            reason = "its chain of parent joints does not reach the root"
+            break
         if joint.parent not in known or joint.parent in on_loop:
-            return None
+            reason = None
+            break
         if joint.parent in visited:
-            return "its chain of parent joints runs in a circle"
+            reason = "its chain of parent joints runs in a circle"
+            break
         visited.add(joint.parent)
         node = joint.parent
+    for walked in path:
+        memo[walked] = reason
+    return reason
