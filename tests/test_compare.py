@@ -494,3 +494,16 @@ def test_xacro_with_arguments_and_sdf_on_either_side(tmp_path):
     kinds = {(d["kind"], d["name"]) for d in data["differences"]}
     assert ("pose", "link1") not in kinds and ("range", "j1") not in kinds
     assert ("mass", "link1") not in kinds and ("inertia", "link1") not in kinds
+
+
+def test_missing_mujoco_and_robots_that_are_not_one_tree(pair, tmp_path, monkeypatch):
+    urdf, mjcf = pair
+    two = tmp_path / "two.urdf"
+    two.write_text('<robot name="r"><link name="a"/><link name="b"/></robot>')
+    result = run_urdftool("compare", str(two), str(urdf))
+    assert result.code == 2 and "2 root links (a, b)" in result.err
+    assert compare_json(urdf, urdf)["verdict"] == "equivalent"  # URDF only: no MuJoCo needed
+    monkeypatch.setitem(__import__("sys").modules, "mujoco", None)  # not installed
+    result = run_urdftool("compare", str(urdf), str(mjcf))
+    assert result.code == 2 and "pip install" in result.err and "[mjcf]" in result.err
+    assert compare_json(urdf, urdf)["verdict"] == "equivalent"

@@ -107,11 +107,14 @@ def tree_of_robot(robot, path: str | None = None) -> Tree:
     """The bodies of a URDF model (``model.build_robot``; xacro expanded, SDF converted): one
     per link reachable from the first root, parents first."""
     roots = robot.roots()
-    if not roots:
+    if len(roots) != 1:
         from urdftool.errors import ToolError
 
-        raise ToolError(f"{path or robot.source.path}: no root link (every link is some joint's "
-                        "child)")
+        where = path or robot.source.path
+        raise ToolError(f"{where}: no root link (every link is some joint's child)" if not roots
+                        else f"{where}: {len(roots)} root links ({', '.join(roots[:3])}"
+                        f"{', ...' if len(roots) > 3 else ''}): not one robot; run "
+                        f"'urdftool check {where}'")
     bodies: list[Body] = []
     index: dict[str, int] = {}
     stack: list[tuple[str, int | None, object]] = [(roots[0], None, None)]
