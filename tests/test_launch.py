@@ -275,3 +275,15 @@ def test_an_included_launch_file_s_conditions_see_what_its_includer_passes(tmp_p
         '<arg name="arm" value="gen3_lite"/><arg name="sim" value="true"/></include></launch>')
     found = launch_arguments(root)["urdf/display.urdf.xacro"]
     assert sorted(args["model"] for args, _ in found) == ["arm6", "sim6"]
+
+
+def test_an_include_under_a_false_condition_passes_nothing(tmp_path):
+    root = _package(tmp_path, "arm.launch", CONDITIONAL_XML)
+    (root / "launch" / "lite.launch").write_text(
+        '<launch><arg name="lite" default="false"/>'
+        '<include file="$(find cam_description)/launch/arm.launch" if="$(arg lite)">'
+        '<arg name="arm" value="gen3_lite"/></include>'
+        '<include file="$(find cam_description)/launch/arm.launch" unless="$(arg lite)">'
+        '<arg name="sim" value="true"/></include></launch>')
+    found = launch_arguments(root)["urdf/display.urdf.xacro"]
+    assert sorted(args["model"] for args, _ in found) == ["arm7", "sim7"]

@@ -600,7 +600,7 @@ class _XmlLaunch:
     def __init__(self, text: str):
         self.defaults: dict[str, list] = {}
         self.fixed: set[str] = set()
-        self.includes: list[tuple[str, dict[str, list], bool]] = []
+        self.includes: list[tuple[str, dict[str, list], bool, list]] = []
         # the parts of every attribute naming a .xacro, with the conditions it is under
         self.commands: list[tuple[list, list]] = []
         # every <arg> with a value: (name, parts, fixed, conditions), in the file's order
@@ -627,7 +627,7 @@ class _XmlLaunch:
             all_args = include.get("pass_all_args", "").strip().lower() in ("true", "1")
             name = re.split(r"[/)]", file)[-1].strip()
             if name:
-                self.includes.append((name, passed, all_args))
+                self.includes.append((name, passed, all_args, _xml_conditions(include)))
         for element in root.iter():
             if not isinstance(element.tag, str) or element.tag in ("arg", "include"):
                 continue
@@ -726,10 +726,12 @@ def _xml_bindings(path: Path, launches: dict[Path, _XmlLaunch]) -> list[dict[str
     for other_path, other in launches.items():
         if other_path == path:
             continue
-        for name, passed, all_args in other.includes:
+        for name, passed, all_args, conditions in other.includes:
             if name != path.name:
                 continue
             outer = dict(other.defaults)
+            if conditions and not _holds([conditions], outer, None, Path()):
+                continue  # an <include if="..."> that is not made
             given = {k: v for k, v in outer.items() if k not in own.fixed} if all_args else {}
             given.update({key: _bind(value, outer) for key, value in passed.items()
                           if key not in own.fixed})
