@@ -116,16 +116,20 @@ def materials(n):
 
 
 def two_parents(n):  # a chain whose every link has a second parent joint from no link:
-    # subtree masses walked per link, cut-off links walked to the top per link
+    # the links below each walked per joint, cut-off links walked to the top per link
     parts = ['<link name="l0"/>'] + [f'<link name="l{i}"/>' for i in range(1, n + 1)]
     parts += [f'<joint name="k{i}" type="fixed"><parent link="l{i}"/><child link="l{i + 1}"/>'
               '</joint>' for i in range(1, n)]
     parts += [f'<joint name="j{i}" type="fixed"><parent link="zz_missing_{i}"/><child '
               f'link="l{i}"/></joint>' for i in range(1, n + 1)]
-    return _robot(parts), "inertia.massless-moving-link", 0
+    return _robot(parts), "structure.missing-link", n
 
 
-CASES = [two_parents, mimic_chain, fixed_chain_tensors, fixed_chain_massless, gazebo_references,
+def two_parents_masses(n):  # the same chain: the inertia rules' subtree masses
+    return two_parents(n)[0], "inertia.massless-moving-link", 0
+
+
+CASES = [two_parents, two_parents_masses, mimic_chain, fixed_chain_tensors, fixed_chain_massless, gazebo_references,
          transmission_joints, mimic_leaders, joint_links, materials]
 
 

@@ -182,14 +182,20 @@ def missing_link(robot) -> Iterator[Finding]:
                 # the typo mended when it is one (did_you_mean), unless the link named then
                 # gets a second parent or closes a loop
                 new = did_you_mean(name, candidates)
+                under = _below(robot, joint.child) if end == "parent" else set()
                 if new == match[0] and (
-                        new not in _below(robot, joint.child) if end == "parent"
+                        under is not None and new not in under if end == "parent"
                         else new != joint.parent and new not in children):
                     edits, note = value_edits(robot, loc, (end,), {"link": new})
             if end == "parent" and joint.child in known:
-                below = sorted(_below(robot, joint.child) & known)
-                message += (f"; the {len(below)} link(s) below it ({_names(below)}) are cut "
-                            "off from the root by this")
+                under = _below(robot, joint.child)
+                if under is None:
+                    message += ("; the links below it are cut off from the root by this (not "
+                                "counted: too many such joints in one file)")
+                else:
+                    below = sorted(under & known)
+                    message += (f"; the {len(below)} link(s) below it ({_names(below)}) are "
+                                "cut off from the root by this")
             yield Finding(message, loc,
                           hint=(f'write <{end} link="{match[0]}"/>' + note) if match
                           else f'define <link name="{name}"/> or name an existing link',
@@ -201,20 +207,34 @@ def _names(names: list[str], most: int = 3) -> str:
     return shown + (f" and {len(names) - most} more" if len(names) > most else "")
 
 
-def _below(robot, link: str | None) -> set:
-    """``link`` and every link below it (through the joints' parent -> child)."""
+# links ``_below`` may visit in all for one robot (issue 28: a walk per joint whose parent is
+# undefined is quadratic in a chain of them); past it, None: not counted, said so
+BELOW_VISITS = 200_000
+
+
+def _below(robot, link: str | None) -> set | None:
+    """``link`` and every link below it (through the joints' parent -> child); None once
+    the robot's walks have visited BELOW_VISITS links."""
     children = robot.memo.get("child_links")
     if children is None:  # made once per robot (issue 28: once per finding was quadratic)
         children = robot.memo["child_links"] = {}
         for joint in robot.joints:
             children.setdefault(joint.parent, []).append(joint.child)
+        robot.memo["below_left"] = BELOW_VISITS
+    known = robot.memo.setdefault("below", {})
+    if link in known:
+        return known[link]
+    left = robot.memo["below_left"]
     found, pending = set(), [link]
-    while pending:
+    while pending and left > 0:
         current = pending.pop()
         if current not in found:
             found.add(current)
+            left -= 1
             pending.extend(children.get(current, ()))
-    return found
+    robot.memo["below_left"] = left
+    known[link] = None if pending else found
+    return known[link]
 
 
 @rule("structure.self-joint", "error", "a joint whose parent and child are the same link",
