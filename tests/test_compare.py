@@ -507,3 +507,30 @@ def test_missing_mujoco_and_robots_that_are_not_one_tree(pair, tmp_path, monkeyp
     result = run_urdftool("compare", str(urdf), str(mjcf))
     assert result.code == 2 and "pip install" in result.err and "[mjcf]" in result.err
     assert compare_json(urdf, urdf)["verdict"] == "equivalent"
+
+
+def test_a_free_root_is_no_difference_a_free_joint_below_is(pair, tmp_path):
+    """Whether a URDF's root floats is the simulator's choice: a <freejoint> on the MJCF's top
+    body is said in a note; a moving joint added anywhere below is a difference."""
+    urdf, mjcf = pair
+    heavy = tmp_path / "heavy.urdf"  # a free body needs mass in MuJoCo
+    heavy.write_text(ARM.replace('<link name="base_link">', '<link name="base_link">\n    '
+                                 '<inertial><mass value="2"/><inertia ixx="0.01" ixy="0" ixz="0" '
+                                 'iyy="0.01" iyz="0" izz="0.02"/></inertial>'))
+    exported = tmp_path / "heavy.xml"
+    assert run_urdftool("convert", str(heavy), "--to", "mjcf", "-o", str(exported)).code == 0
+
+    def free_root(root):
+        ET.SubElement(_find(root, "body", "base_link"), "freejoint", name="root")
+
+    floating = tmp_path / "floating.xml"
+    floating.write_text(_edit_mjcf(exported.read_text(), free_root))
+    model = mujoco.MjModel.from_xml_path(str(floating))
+    assert model.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
+    data = compare_json(heavy, floating)
+    assert data["differences"] == [] and any("free" in note for note in data["notes"])
+    hinged = tmp_path / "hinged.xml"
+    hinged.write_text(_edit_mjcf(mjcf.read_text(), lambda root: ET.SubElement(
+        _find(root, "body", "finger"), "joint", name="j_more", axis="1 0 0")))
+    data = compare_json(urdf, hinged)
+    assert [(d["kind"], d["other"]) for d in data["differences"]] == [("joint-type", "j_more")]

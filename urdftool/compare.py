@@ -29,7 +29,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from urdftool.bodies import FIXED, HINGE, SLIDE, Tree, group_roots, groups, poses
+from urdftool.bodies import FIXED, FREE, HINGE, SLIDE, Tree, group_roots, groups, poses
 from urdftool.findings import Loc
 
 KINDS = ("missing-body", "extra-body", "pose", "joint-type", "axis", "range", "mimic", "mass",
@@ -251,6 +251,9 @@ def _compare_joints(a, b, pairs, extra_joints, out, notes, joint_differs) -> Non
         locs = ja.locs or {}
         loc = locs.get("joint") or ja.loc or a.bodies[i].loc
         if other is None:
+            if ja.kind == FREE and a.bodies[i].parent in (0, None):
+                notes.append(_FREE_ROOT.format(side="A"))
+                continue
             if ja.kind != FIXED:
                 joint_differs.add(i)
                 out.absent("joint-type", ja.name, None,
@@ -295,6 +298,9 @@ def _compare_joints(a, b, pairs, extra_joints, out, notes, joint_differs) -> Non
                            else f"no {aspect} limit in A, {vb!r} in B", locs.get(aspect) or loc)
     for j, l in extra_joints:
         jb = b.bodies[j].joints[l]
+        if jb.kind == FREE and b.bodies[j].parent in (0, None):
+            notes.append(_FREE_ROOT.format(side="B"))
+            continue
         if jb.kind != FIXED:
             out.absent("joint-type", b.bodies[j].name, jb.name,
                        f"no joint in A, {jb.kind} joint {jb.name!r} in B", None)
@@ -302,6 +308,10 @@ def _compare_joints(a, b, pairs, extra_joints, out, notes, joint_differs) -> Non
         notes.append(f"{aspect} limits of {len(names)} joint(s) not compared: the other "
                      f"description states none at all ({', '.join(names[:5])}"
                      f"{', ...' if len(names) > 5 else ''})")
+
+
+_FREE_ROOT = ("the root body is free in {side} (a free joint) and not attached in the other: "
+              "whether a URDF's root floats is the simulator's choice, not a difference")
 
 
 def _vec(v) -> str:
