@@ -50,13 +50,13 @@ def _team(tmp_path: Path) -> Path:
     return repo
 
 
-def _link_and_load(repo: Path, other: Path) -> None:
-    """The pull request: a link to the other checkout beside the entry, and an entry that loads
-    the secret through it (a joint type that prints its value in the finding)."""
-    urdf = repo / "robot_description" / "urdf"
-    (urdf / "other").symlink_to(other)
-    (urdf / "r.urdf.xacro").write_text(ROBOT.format(
-        kind="${xacro.load_yaml('other/secret.yaml')['kind']}"))
+def _pull_request(repo: Path, link: str, target: Path, kind: str) -> None:
+    """The pull request: a link ``link`` to ``target`` (another checkout), and an entry whose
+    joint type is ``kind`` (a joint type prints its value in the finding), committed."""
+    (repo / link).symlink_to(target)
+    (repo / "robot_description" / "urdf" / "r.urdf.xacro").write_text(ROBOT.format(kind=kind))
+    _git(repo, "add", "-A")
+    _git(repo, "commit", "-qm", "the pull request")
 
 
 def test_action_a_changed_link_to_another_checkout_is_no_root(tmp_path):
@@ -65,9 +65,8 @@ def test_action_a_changed_link_to_another_checkout_is_no_root(tmp_path):
     annotated. A changed path is data: the link's target is outside the roots."""
     other = _other_checkout(tmp_path)
     repo = _team(tmp_path)
-    _link_and_load(repo, other)
-    _git(repo, "add", "-A")
-    _git(repo, "commit", "-qm", "the pull request")
+    _pull_request(repo, "robot_description/urdf/other", other,
+                  "${xacro.load_yaml('other/secret.yaml')['kind']}")
     run = run_action(repo, {"changed-files": "true"}, {"base_ref": "main"})
     [call] = [c for c in run.calls if c[:1] == ["check"]]
     assert "robot_description/urdf/other" in call  # the link was among the changed names
@@ -82,11 +81,7 @@ def test_action_paths_that_are_links_into_another_checkout_are_no_root(tmp_path)
     was a root: the entry read the other checkout's secret through it)."""
     other = _other_checkout(tmp_path)
     repo = _team(tmp_path)
-    (repo / "vendor").symlink_to(other)
-    (repo / "robot_description" / "urdf" / "r.urdf.xacro").write_text(ROBOT.format(
-        kind="${xacro.load_yaml('../../vendor/secret.yaml')['kind']}"))
-    _git(repo, "add", "-A")
-    _git(repo, "commit", "-qm", "the pull request")
+    _pull_request(repo, "vendor", other, "${xacro.load_yaml('../../vendor/secret.yaml')['kind']}")
     run = run_action(repo, {"paths": "vendor robot_description"}, {"base_ref": "main"})
     assert SECRET not in run.output, run.output
     assert run.code == 1 and "xacro.error" in run.output, run.output
@@ -298,11 +293,7 @@ def test_action_a_changed_link_brings_no_configuration(tmp_path):
     (other / "urdftool.toml").write_text(
         'ignore = ["xml", "schema", "structure", "joint", "geometry", "inertia"]\n')
     repo = _team(tmp_path)
-    (repo / "a_link").symlink_to(other)
-    (repo / "robot_description" / "urdf" / "r.urdf.xacro").write_text(ROBOT.format(
-        kind="sideways"))
-    _git(repo, "add", "-A")
-    _git(repo, "commit", "-qm", "the pull request")
+    _pull_request(repo, "a_link", other, "sideways")
     run = run_action(repo, {"changed-files": "true"}, {"base_ref": "main"})
     [call] = [c for c in run.calls if c[:1] == ["check"]]
     assert call[call.index("--") + 1] == "a_link", call  # the link is the first name
