@@ -167,8 +167,8 @@ def tracked(top: Path, directory: Path) -> bool:
     ``top``): a subdirectory of a work tree, not a checkout without metadata of its own
     unpacked inside it (a tarball in a home directory under git, a copy in a monorepo). Git:
     an entry of its index names a file below it (index versions 2 and 3; version 4 and an
-    index that cannot be read: not known, False). Mercurial and Subversion: True (their
-    metadata is not read)."""
+    index that cannot be read: not known, False; no index yet, a new repository: True).
+    Mercurial and Subversion: True (their metadata is not read)."""
     try:
         relative = Path(directory).relative_to(top).as_posix()
     except ValueError:
@@ -183,7 +183,6 @@ def tracked(top: Path, directory: Path) -> bool:
     if found is None:
         found = _TRACKED[key] = _in_git_index(_git_dir(git), relative.encode() + b"/")
     return found
-
 
 
 def _git_dir(git: Path) -> Path:
