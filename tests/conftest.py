@@ -156,6 +156,8 @@ def _own_mesh_cache(monkeypatch, tmp_path_factory):
 def pytest_addoption(parser):
     parser.addoption("--cpu-durations", type=int, default=None, metavar="N",
                      help="list the N tests that used the most CPU time (with children)")
+    parser.addoption("--cpu-durations-file", default=None, metavar="FILE",
+                     help="with --cpu-durations: write every test's CPU seconds to FILE (JSON)")
 
 
 def _cpu_seconds() -> float:
@@ -198,4 +200,8 @@ def pytest_terminal_summary(terminalreporter, config):
     for nodeid, seconds in sorted(_CPU.items(), key=lambda kv: -kv[1])[:count]:
         terminalreporter.write_line(f"{seconds:8.2f}s cpu  {nodeid}")
     terminalreporter.write_line(f"{sum(_CPU.values()):8.2f}s cpu  total of {len(_CPU)} tests")
+    if config.getoption("cpu_durations_file"):
+        import json
+
+        Path(config.getoption("cpu_durations_file")).write_text(json.dumps(_CPU, indent=1))
 # -- end CPU durations ----------------------------------------------------------------------

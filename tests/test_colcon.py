@@ -82,6 +82,7 @@ def _colcon(workspace: Path, *args: str) -> subprocess.CompletedProcess:
                           text=True, timeout=120, check=False)
 
 
+@pytest.mark.slow  # a real colcon build and test (~11 s CPU): CI
 def test_colcon_test_fails_on_a_seeded_defect_and_test_result_lists_it(tmp_path):
     seeded = ROBOT.replace('<axis xyz="0 0 1"/>', '<axis xyz="0 0 0"/>')
     workspace = _workspace(tmp_path / "ws", seeded)

@@ -41,6 +41,7 @@ def _assert_fine(outcomes, path: Path):
                     f"{outcome.err[-2000:]}")
 
 
+@pytest.mark.slow  # 120 mutated robots (~16 s CPU): CI; make test keeps the xacro mutants below
 @settings(max_examples=120, deadline=None, derandomize=True, database=None,
           phases=[Phase.explicit, Phase.generate],  # no shrinking: the reproducer is saved
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])

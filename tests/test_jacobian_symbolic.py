@@ -54,6 +54,7 @@ def test_symbolic_equals_numeric(write, source, tip, simplify):
     _compare(chain, symbolic_kinematics(chain, simplify))
 
 
+@pytest.mark.slow  # ~11 s of sympy: CI; make test simplifies the smaller chains above
 def test_symbolic_ur5_simplified():
     chain = extract_chain(load_robot(str(ERD / "ur_description/urdf/ur5_robot.urdf")), None,
                           "ee_link")
@@ -109,7 +110,8 @@ def test_json():
 
 
 @pytest.mark.parametrize(("source", "tip"), [(DUAL_ARM, "link_eeleft"), (TILTED, None),
-                                             (MIMIC, "l4")])
+                                             # ~9 s of sympy: CI (slow)
+                                             pytest.param(MIMIC, "l4", marks=pytest.mark.slow)])
 def test_numpy_code_runs_and_agrees(write, source, tip):
     path = write(source) if isinstance(source, str) else source
     args = [str(path), "--symbolic", "--format", "numpy"] + (["--tip", tip] if tip else [])

@@ -37,6 +37,12 @@ def _env(home: Path, path_first: Path | None = None) -> dict:
     return env
 
 
+# The shipped hook's tests install its environment (pre-commit's own venv: pip install of this
+# tree with the mesh extra, ~30 s of CPU): CI runs them (slow); make test keeps the README's
+# local hook (test_readme_local_hook_works_as_written) and the manifest's checks.
+SHIPPED = pytest.mark.slow
+
+
 @pytest.fixture(scope="module")
 def shipped(tmp_path_factory) -> tuple[str, str, Path]:
     """(repo, rev, PRE_COMMIT_HOME): this working tree's tracked files committed to a scratch
@@ -74,6 +80,7 @@ def _commit(repo: Path, env: dict, message: str) -> subprocess.CompletedProcess:
                           timeout=900, check=False)
 
 
+@SHIPPED
 def test_shipped_hook_blocks_a_broken_robot(shipped, tmp_path):
     repo = _repo(tmp_path / "robot_description", _shipped_config(shipped))
     (repo / "good.urdf").write_text(GOOD)
@@ -94,6 +101,7 @@ def test_shipped_hook_blocks_a_broken_robot(shipped, tmp_path):
     assert "Failed" in bad.stdout and "bad.urdf:" in bad.stdout
 
 
+@SHIPPED
 def test_shipped_hook_gates_a_package_with_fragments(shipped, tmp_path):
     repo = _repo(tmp_path / "team", _shipped_config(shipped))
     package = repo / "demo_description"
@@ -166,6 +174,7 @@ HOSTILE = ["--write-baseline=x.urdf", "-o.urdf", "--output-file=y.urdf", "--exit
            "--ignore=xml.urdf", "-x.urdf", "a:=b.urdf"]
 
 
+@SHIPPED
 def test_shipped_hook_checks_files_named_like_options(shipped, tmp_path):
     """A commit of broken robot files whose names are options that would set the verdict
     (write a baseline and exit 0, ignore the xml rules, send the report to a file): the real
@@ -209,6 +218,7 @@ def test_readme_local_hook_works_as_written(tmp_path):
 ARM = Path(__file__).parent / "data" / "packages" / "arm_description"
 
 
+@SHIPPED
 def test_shipped_hook_sees_every_input_of_an_entry(shipped, tmp_path):
     """Issue 23: a commit that changes only the YAML file the xacro loads is checked through
     the entry that loads it; a commit of a file no entry reads passes silently."""
@@ -240,6 +250,7 @@ def test_shipped_hook_sees_every_input_of_an_entry(shipped, tmp_path):
     assert "error" not in passed.stdout and "file(s)" not in passed.stdout
 
 
+@SHIPPED
 def test_shipped_fix_hook_fixes_the_staged_files(shipped, tmp_path):
     """The second hook id, urdftool-fix: a typo'd attribute in a staged macro file is fixed in
     place through the entry that includes it; pre-commit fails the commit (a file changed) and

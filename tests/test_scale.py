@@ -161,3 +161,38 @@ def test_expand_of_many_sibling_macro_calls_is_plain_xacros(tmp_path):
                             capture_output=True, text=True, check=True).stdout
     assert ours.out == theirs
     assert ours.out.count("<joint ") == 399 and ours.out.count('name="extra') == 133
+
+
+def _rope(N: int) -> str:
+    parts = ['<robot name="rope">']
+    for i in range(N):
+        parts.append(f'<link name="l{i}"><inertial><mass value="0.5"/><inertia ixx="1e-3" '
+                     'iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial></link>')
+        if i:
+            parts.append(f'<joint name="j{i}" type="revolute"><parent link="l{i - 1}"/>'
+                         f'<child link="l{i}"/><origin xyz="0 0 0.01"/><axis xyz="0 1 0"/>'
+                         '<limit lower="-0.1" upper="0.1" effort="1" velocity="1"/></joint>')
+    parts.append("</robot>")
+    return "\n".join(parts)
+
+
+@pytest.mark.parametrize("command", ["tree", "limits", "inertia", "check"])
+def test_commands_grow_linearly_with_the_chain(command, tmp_path):
+    """What the 50k chains (CI) show, measured on small chains in make test: four times the
+    links costs about four times the CPU (less than eight: a quadratic walk costs sixteen).
+    CPU time of this process, after a first run that pays the imports."""
+    import time
+
+    warm = tmp_path / "warm.urdf"
+    warm.write_text(_rope(100), encoding="utf-8")
+    assert run_urdftool(command, warm).code in (0, 1)
+    costs = {}
+    for n in (1_500, 6_000):
+        path = tmp_path / f"rope{n}.urdf"
+        path.write_text(_rope(n), encoding="utf-8")
+        started = time.process_time()
+        result = run_urdftool(command, "--format", "json", path)
+        costs[n] = time.process_time() - started
+        assert result.code in (0, 1), result.err
+    assert costs[6_000] < 8 * costs[1_500], costs
+    assert costs[6_000] > 2 * costs[1_500], costs  # the sizes do show in the cost
