@@ -138,6 +138,8 @@ SEEDS = [  # (what is replaced, by what, the rule, its severity)
     ('<joint name="panda_joint7"/>\n    </group>', '<joint name="panda_joint77"/>\n    </group>',
      "srdf.unknown-joint", "error"),
     ('<group name="arm"/>', '<group name="arms"/>', "srdf.unknown-group", "error"),
+    ('<joint name="panda_joint3" value="0"/>', '<joint name="panda_jiont3" value="0"/>',
+     "srdf.unknown-joint", "error"),  # (the state then lacks joint3: the same cause)
     ('parent_link="panda_hand_tcp"', 'parent_link="panda_hand_tpc"', "srdf.unknown-link", "error"),
     ('<joint name="panda_joint4" value="-2.35619"/>', '<joint name="panda_joint4" value="0.5"/>',
      "srdf.state-out-of-limits", "error"),
