@@ -508,6 +508,9 @@ def _read(path: Path):
     file_type = path.suffix.lower().lstrip(".")
     if file_type == "dae":
         data = _without_lead(data)
+        found = _collada_triangles(data)
+        if found is not None:
+            return (*found, None)
     try:
         mesh = _trimesh_load(data, file_type)
     except ImportError:
@@ -526,6 +529,266 @@ def _read(path: Path):
     if _empty(mesh) and file_type == "dae":
         mesh = _load_collada_geometry_only(data)
     return None if _empty(mesh) else (mesh.vertices, mesh.faces, mesh)
+
+
+class _Unsupported(Exception):
+    """Something the fast COLLADA reader leaves to pycollada (through trimesh)."""
+
+
+def _collada_triangles(data: bytes):
+    """(vertices, faces) of a COLLADA document's triangles as trimesh reads them through
+    pycollada (``trimesh.exchange.dae``: the <triangles>, <polylist> and <polygons> of every
+    <instance_geometry> of the scene's nodes, placed by the nodes' transforms, polygons as fans
+    from their first corner, one vertex per corner, positions as float32 like pycollada), read
+    with lxml and numpy only: no normals, texture coordinates or materials parsed, no trimesh
+    objects made (they were most of the time of reading a large COLLADA file). None when the
+    document holds something this reader leaves to pycollada (controllers, strips, a
+    transform it does not know, a broken reference...) or is not well-formed: the caller then
+    reads it through trimesh, which also reports what is wrong."""
+    import numpy as np
+    from lxml import etree
+
+    from urdftool.xmlrepair import secure_parser
+
+    try:
+        root = etree.fromstring(data, secure_parser())
+        ids = {}
+        for element in root.iterfind(".//*[@id]"):
+            ids.setdefault(element.get("id"), element)
+        scene = _child(root, "scene")
+        instance = _child(scene, "instance_visual_scene") if scene is not None else None
+        visual = _ref(ids, instance.get("url")) if instance is not None else None
+        if visual is None:
+            return None
+        parts: list = []
+        stack = [(node, np.eye(4)) for node in _children(visual, "node")][::-1]
+        seen = 0
+        while stack:
+            node, parent = stack.pop()
+            seen += 1
+            if seen > 100_000:
+                raise _Unsupported("too many nodes")
+            matrix = _product(parent, _node_matrix(node))
+            children = []
+            for child in node:
+                tag = _local(child)
+                if tag == "node":
+                    children.append((child, matrix))
+                elif tag == "instance_node":
+                    target = _ref(ids, child.get("url"))
+                    if target is None:
+                        raise _Unsupported("broken instance_node")
+                    children.append((target, matrix))
+                elif tag == "instance_geometry":
+                    geometry = _ref(ids, child.get("url"))
+                    if geometry is None:
+                        raise _Unsupported("broken instance_geometry")
+                    parts.extend((_placed(points, matrix), triangles)
+                                 for points, triangles in _geometry_corners(ids, geometry))
+                elif tag in ("instance_controller",):
+                    raise _Unsupported(tag)
+            stack.extend(reversed(children))
+    except (_Unsupported, etree.XMLSyntaxError, ValueError, IndexError, TypeError):
+        return None
+    parts = [(points, triangles) for points, triangles in parts if len(triangles)]
+    if not parts:
+        return None
+    offsets = np.cumsum([0] + [len(points) for points, _ in parts])
+    vertices = np.concatenate([points for points, _ in parts])
+    faces = np.concatenate([triangles + offset for (_, triangles), offset in zip(parts, offsets)])
+    return vertices, faces
+
+
+def _placed(points, matrix):
+    """``points`` (n x 3) transformed by a 4 x 4 matrix, element by element (a BLAS product of
+    this shape costs more, in CPU of its threads, than the arithmetic)."""
+    if (matrix == _EYE4).all():
+        return points
+    x, y, z = points[:, 0], points[:, 1], points[:, 2]
+    import numpy as np
+
+    return np.stack([matrix[k, 0] * x + matrix[k, 1] * y + matrix[k, 2] * z + matrix[k, 3]
+                     for k in range(3)], axis=1)
+
+
+_EYE4 = ((1.0, 0.0, 0.0, 0.0), (0.0, 1.0, 0.0, 0.0), (0.0, 0.0, 1.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+
+
+def _local(element) -> str:
+    tag = element.tag
+    return tag.rpartition("}")[2] if isinstance(tag, str) else ""
+
+
+def _child(element, name: str):
+    return next((c for c in element if _local(c) == name), None)
+
+
+def _children(element, name: str) -> list:
+    return [c for c in element if _local(c) == name]
+
+
+def _ref(ids: dict, url: str | None):
+    return ids.get(url[1:]) if url and url.startswith("#") else None
+
+
+def _numbers(element, dtype="float32"):
+    """An element's text as numbers (numpy's C parser, as pycollada reads them); a text it
+    cannot read to its end is left to pycollada."""
+    import numpy as np
+
+    text = (element.text or "") if element is not None else ""
+    if not text.strip():
+        return np.zeros(0, dtype)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # "string or file could not be read to its end"
+        try:
+            return np.fromstring(text, dtype=dtype, sep=" ")
+        except (DeprecationWarning, ValueError) as exc:
+            raise _Unsupported("numbers") from exc
+
+
+def _node_matrix(node):
+    """A node's transform: its <matrix>, <translate>, <rotate> and <scale> elements composed
+    in document order (float32 values, as pycollada reads them)."""
+    import numpy as np
+
+    matrix = np.eye(4)
+    for element in node:
+        tag = _local(element)
+        if tag not in ("matrix", "translate", "rotate", "scale", "lookat", "skew"):
+            continue
+        if tag in ("lookat", "skew"):
+            raise _Unsupported(tag)
+        values = _numbers(element).astype(float)
+        step = np.eye(4)
+        if tag == "matrix":
+            if len(values) != 16:
+                raise _Unsupported("matrix")
+            step = values.reshape(4, 4)
+        elif tag == "translate":
+            if len(values) != 3:
+                raise _Unsupported("translate")
+            step[:3, 3] = values
+        elif tag == "scale":
+            if len(values) != 3:
+                raise _Unsupported("scale")
+            step[:3, :3] = np.diag(values)
+        else:
+            if len(values) != 4:
+                raise _Unsupported("rotate")
+            step[:3, :3] = _axis_angle(values[:3], math.radians(values[3]))
+        matrix = _product(matrix, step)
+    return matrix
+
+
+def _product(a, b):
+    """The 4 x 4 product without BLAS (see ``_placed``)."""
+    return (a[:, :, None] * b[None, :, :]).sum(axis=1)
+
+
+def _axis_angle(axis, angle: float):
+    import numpy as np
+
+    norm = float(np.linalg.norm(axis))
+    if norm == 0:
+        return np.eye(3)
+    x, y, z = axis / norm
+    c, s, t = math.cos(angle), math.sin(angle), 1 - math.cos(angle)
+    return np.array([[t * x * x + c, t * x * y - s * z, t * x * z + s * y],
+                     [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
+                     [t * x * z - s * y, t * y * z + s * x, t * z * z + c]])
+
+
+def _geometry_corners(ids: dict, geometry) -> list:
+    """The triangles of a <geometry>'s <mesh>: (positions used, n x 3 floats; triangles,
+    m x 3 indices into them) for each primitive."""
+    import numpy as np
+
+    mesh = _child(geometry, "mesh")
+    if mesh is None:
+        if _child(geometry, "convex_mesh") is not None or _child(geometry, "spline") is not None:
+            raise _Unsupported("not a <mesh>")
+        return []
+    found = []
+    for primitive in mesh:
+        tag = _local(primitive)
+        if tag in ("lines", "linestrips", "source", "vertices", "extra") or not tag:
+            continue
+        if tag not in ("triangles", "polylist", "polygons"):
+            raise _Unsupported(tag)
+        inputs = _children(primitive, "input")
+        if not inputs:
+            continue
+        stride = 1 + max(int(i.get("offset") or 0) for i in inputs)
+        vertex = next((i for i in inputs if i.get("semantic") == "VERTEX"), None)
+        if vertex is None:
+            continue  # pycollada: no vertex, nothing drawn
+        positions = _positions(ids, vertex.get("source"))
+        offset = int(vertex.get("offset") or 0)
+        if tag == "polygons":
+            if _children(primitive, "ph"):
+                raise _Unsupported("polygon holes")
+            polygons = [_numbers(p, "int64") for p in _children(primitive, "p")]
+            counts = np.array([len(p) // stride for p in polygons], dtype=np.int64)
+            index = np.concatenate(polygons) if polygons else np.zeros(0, np.int64)
+        else:
+            index = _numbers(_child(primitive, "p"), "int64")
+            counts = None
+            if tag == "polylist":
+                counts = _numbers(_child(primitive, "vcount"), "int64")
+        if len(index) % stride:
+            raise _Unsupported("index count")
+        corners = index.reshape(-1, stride)[:, offset]
+        if counts is None:
+            if len(corners) % 3:
+                raise _Unsupported("triangle count")
+            triangles = corners.reshape(-1, 3)
+        else:
+            if counts.sum() != len(corners) or (counts < 3).any():
+                raise _Unsupported("polygon counts")
+            triangles = _fans(corners, counts)
+        if len(triangles) and (triangles.min() < 0 or triangles.max() >= len(positions)):
+            raise _Unsupported("index out of range")
+        # the positions the triangles use (a hull of every position would count unused ones)
+        used = np.zeros(len(positions), dtype=bool)
+        used[triangles.ravel()] = True
+        renumber = np.cumsum(used) - 1
+        found.append((positions[used].astype(float), renumber[triangles]))
+    return found
+
+
+def _fans(corners, counts):
+    """Triangles (first, i, i + 1) of polygons given as runs of ``counts`` corners (what
+    pycollada's ``Polylist.triangleset`` makes)."""
+    import numpy as np
+
+    starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    per = counts - 2
+    first = np.repeat(starts, per)
+    step = np.arange(int(per.sum())) - np.repeat(np.cumsum(per) - per, per) + 1
+    return np.stack([corners[first], corners[first + step], corners[first + step + 1]], axis=1)
+
+
+def _positions(ids: dict, url: str | None):
+    """The POSITION source of a <vertices> element: (n, 3) float32, its accessor's stride."""
+    vertices = _ref(ids, url)
+    if vertices is None:
+        raise _Unsupported("broken VERTEX source")
+    if _local(vertices) == "source":
+        source = vertices
+    else:
+        position = next((i for i in _children(vertices, "input")
+                         if i.get("semantic") == "POSITION"), None)
+        source = _ref(ids, position.get("source")) if position is not None else None
+    if source is None:
+        raise _Unsupported("no POSITION source")
+    values = _numbers(_child(source, "float_array"))
+    technique = _child(source, "technique_common")
+    accessor = _child(technique, "accessor") if technique is not None else None
+    stride = int(accessor.get("stride") or 1) if accessor is not None else 3
+    if stride < 3 or len(values) % stride:
+        raise _Unsupported("position stride")
+    return values.reshape(-1, stride)[:, :3]
 
 
 def _trimesh_load(data: bytes, file_type: str):
@@ -700,6 +963,65 @@ def _distinct(vertices):
     return vertices[first[order]], rank[group.ravel()]
 
 
+def _merged(vertices):
+    """(one vertex of each group of vertices equal to 8 decimals; each vertex's group):
+    trimesh's ``merge_vertices`` by position (``tol.merge``; it keeps the first of a group,
+    here one within 1e-8 of it), with one unstable sort of one hashed key per vertex (checked:
+    a collision sorts the rows)."""
+    import numpy as np
+
+    if not np.isfinite(vertices).all() or np.abs(vertices).max() > 1e10:
+        return _distinct(vertices)  # rounding would overflow: bitwise equality then
+    rounded = np.round(vertices * 1e8).astype(np.int64)
+    keys, group = np.unique(_row_keys(rounded), return_inverse=True)
+    group = group.ravel()
+    member = np.empty(len(keys), dtype=np.int64)
+    member[group] = np.arange(len(group))  # one vertex of each group (the last)
+    if not np.array_equal(rounded[member[group]], rounded):  # a hash collision: rows then
+        _, group = np.unique(rounded, axis=0, return_inverse=True)
+        group = group.ravel()
+        member = np.empty(int(group.max()) + 1, dtype=np.int64)
+        member[group] = np.arange(len(group))
+    return vertices[member], group
+
+
+def _closed(faces) -> bool:
+    """Whether the triangles ``faces`` (indices of merged vertices) make a closed, consistently
+    wound surface, as trimesh's ``is_watertight and is_winding_consistent`` say: every edge
+    shared by exactly two faces, which run it in opposite directions. Two sorts of integer
+    keys, no trimesh object (its construction, vertex merging and cache hashing were a third
+    of the time of reading a large mesh)."""
+    import numpy as np
+
+    edges = faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)
+    if len(edges) == 0:
+        return False
+    count = int(faces.max()) + 1
+    low, high = np.minimum(edges[:, 0], edges[:, 1]), np.maximum(edges[:, 0], edges[:, 1])
+    pairs = np.sort(low * count + high)
+    if len(pairs) % 2:
+        return False
+    pairs = pairs.reshape(-1, 2)
+    if not (pairs[:, 0] == pairs[:, 1]).all() or (pairs[1:, 0] == pairs[:-1, 1]).any():
+        return False
+    # each edge twice: opposite directions unless a face runs one the same way as the other
+    # (an edge from a vertex to itself, in a degenerate face, has no direction: trimesh lets
+    # it pass)
+    proper = edges[:, 0] != edges[:, 1]
+    directed = np.sort(edges[proper, 0] * count + edges[proper, 1])
+    return not (directed[1:] == directed[:-1]).any()
+
+
+def _row_keys(rows):
+    """One uint64 per row of three int64 (a hash of the rows' bits; collisions are checked by
+    the caller)."""
+    import numpy as np
+
+    bits = np.ascontiguousarray(rows).view(np.uint64)
+    return (bits[:, 0] * np.uint64(0x9E3779B97F4A7C15)) ^ \
+        (bits[:, 1] * np.uint64(0xC2B2AE3D27D4EB4F)) ^ (bits[:, 2] * np.uint64(0x165667B19E3779F9))
+
+
 def _hull(vertices):
     """(hull vertices, oriented hull triangles) by qhull; (unique vertices, None) when the
     points span no volume (a flat or degenerate mesh)."""
@@ -727,25 +1049,30 @@ def _summarise(path: Path, vertices, faces, mesh, need_volume: bool) -> MeshInfo
     faces = np.asarray(faces)
     lower = tuple(float(x) for x in vertices.min(axis=0))
     upper = tuple(float(x) for x in vertices.max(axis=0))
-    points, index = _distinct(vertices)
+    # a hull needs distinct points; the volume, vertices merged as trimesh merges them (the
+    # hull of their first points is the same to 1e-8 m)
+    merge = need_volume and mesh is None
+    points, index = _merged(vertices) if merge else _distinct(vertices)
     hull_points, hull_triangles = _hull(points)
-    flat = array("d", np.ascontiguousarray(hull_points, dtype=np.float64).ravel().tolist())
+    flat = array("d")
+    flat.frombytes(np.ascontiguousarray(hull_points, dtype=np.float64).tobytes())
     info = {"path": str(path), "flat": flat, "lower": lower, "upper": upper,
             "faces": len(faces)}
     if not need_volume:
         return MeshInfo(**info)  # type: ignore[arg-type]
-    import trimesh
     from trimesh.triangles import mass_properties
 
-    if mesh is None:  # no texture coordinates to keep apart: merging distinct points is the same
-        mesh = trimesh.Trimesh(points, index[faces], process=False)
+    if merge:  # no texture coordinates to keep apart: merged by position alone
+        merged = index[faces]
+        watertight, triangles = _closed(merged), points[merged]
     else:
         mesh.vertices = vertices
-    mesh.merge_vertices()  # STL repeats every vertex: merge before asking about topology
-    watertight = bool(mesh.is_watertight) and bool(mesh.is_winding_consistent)
+        mesh.merge_vertices()  # STL repeats every vertex: merge before asking about topology
+        watertight = bool(mesh.is_watertight) and bool(mesh.is_winding_consistent)
+        triangles = mesh.triangles
     solid = None
     if watertight:
-        props = mass_properties(mesh.triangles)
+        props = mass_properties(triangles)
         solid = _solid(props, 1.0 if props["volume"] >= 0 else -1.0)  # inside-out: same body
     used_hull = solid is None
     if used_hull and hull_triangles is not None:
