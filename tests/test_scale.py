@@ -24,10 +24,7 @@ def N(request):
     return request.param
 
 
-@pytest.fixture(scope="module")
-def chain(tmp_path_factory, N):
-    """A serial chain of N links (l0 ... l{N-1}), each with a mass (the inertia rules walk
-    subtrees), nothing else: the parse stays quick."""
+def _rope(N: int) -> str:
     parts = ['<robot name="rope">']
     for i in range(N):
         parts.append(f'<link name="l{i}"><inertial><mass value="0.5"/><inertia ixx="1e-3" '
@@ -37,8 +34,15 @@ def chain(tmp_path_factory, N):
                          f'<child link="l{i}"/><origin xyz="0 0 0.01"/><axis xyz="0 1 0"/>'
                          '<limit lower="-0.1" upper="0.1" effort="1" velocity="1"/></joint>')
     parts.append("</robot>")
+    return "\n".join(parts)
+
+
+@pytest.fixture(scope="module")
+def chain(tmp_path_factory, N):
+    """A serial chain of N links (l0 ... l{N-1}), each with a mass (the inertia rules walk
+    subtrees), nothing else: the parse stays quick."""
     path = tmp_path_factory.mktemp("scale") / "rope.urdf"
-    path.write_text("\n".join(parts), encoding="utf-8")
+    path.write_text(_rope(N), encoding="utf-8")
     return path
 
 
@@ -161,19 +165,6 @@ def test_expand_of_many_sibling_macro_calls_is_plain_xacros(tmp_path):
                             capture_output=True, text=True, check=True).stdout
     assert ours.out == theirs
     assert ours.out.count("<joint ") == 399 and ours.out.count('name="extra') == 133
-
-
-def _rope(N: int) -> str:
-    parts = ['<robot name="rope">']
-    for i in range(N):
-        parts.append(f'<link name="l{i}"><inertial><mass value="0.5"/><inertia ixx="1e-3" '
-                     'iyy="1e-3" izz="1e-3" ixy="0" ixz="0" iyz="0"/></inertial></link>')
-        if i:
-            parts.append(f'<joint name="j{i}" type="revolute"><parent link="l{i - 1}"/>'
-                         f'<child link="l{i}"/><origin xyz="0 0 0.01"/><axis xyz="0 1 0"/>'
-                         '<limit lower="-0.1" upper="0.1" effort="1" velocity="1"/></joint>')
-    parts.append("</robot>")
-    return "\n".join(parts)
 
 
 @pytest.mark.parametrize("command", ["tree", "limits", "inertia", "check"])
