@@ -597,10 +597,12 @@ in its random sample of the robot's states (`reason="Never"`), once, when the co
 made. Once the meshes, the joint limits or the kinematics change, such a pair may collide, and
 the planner, told to ignore it, drives the arm into itself. urdftool samples the joints between
 the two links deterministically (a Halton sequence within the joint limits, mimic joints
-following their leaders), places their collision shapes (primitives, and the convex hulls of
-meshes) by forward kinematics and tests them for overlap (GJK). A finding gives the
-configuration where they overlap most and the penetration (the shortest separating
-translation found). Sampling shows a collision; it never proves that there is none: a pair
+following their leaders), places their collision shapes by forward kinematics and tests them
+as MoveIt does (moveit_core's FCL collision world; here coal, FCL's successor, from
+`urdftool[kinematics]`: primitives as such, meshes as their triangles; without coal, GJK on
+primitives, and mesh pairs whose convex hulls overlap are one info finding, not judged). A
+finding gives the sampled configuration where they collide deepest and the penetration
+(coal's; for primitives without coal, the shortest separating translation found). Sampling shows a collision; it never proves that there is none: a pair
 without a finding was not proven safe. Links joined rigidly (no moving joint between them)
 touch always or never: not sampled.""",
       bad=_example('  <disable_collisions link1="base_link" link2="forearm" reason="Never"/>'),
