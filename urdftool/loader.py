@@ -108,8 +108,11 @@ def typed_root(path, working: Path | None) -> Path | None:
     repository. Its directory (a file's, or a link's: a link decides nothing) is
 
     - inside the working directory's repository (as written): that repository when it holds
-      the directory (``roots.tracked``), else the directory itself (a checkout without
-      metadata in it), or nothing when a link on the way leads elsewhere (repository content);
+      the directory (``roots.tracked``), else what ``roots.repository_for`` gives a place
+      outside any repository, never reaching what the repository holds (a checkout without
+      metadata in it: the directory given, a file's package or its directory; a package's
+      data installed under a virtual environment in the work tree), or nothing when a link
+      on the way leads elsewhere (repository content);
     - elsewhere: its own repository, the directory given, a file's package or its directory
       (``roots.repository_for``: version-control roots looked for without following links)."""
     absolute = os.path.abspath(os.fspath(path))
@@ -119,7 +122,7 @@ def typed_root(path, working: Path | None) -> Path | None:
                                 or directory.startswith(str(working) + os.sep)):
         if tracked(working, Path(directory)):
             return working
-        return Path(directory) if real(directory) == directory else None
+        return repository_for(absolute) if real(directory) == directory else None
     return repository_for(absolute)
 
 

@@ -253,8 +253,11 @@ def own_repository(directory) -> Path | None:
 def repository_for(path) -> Path:
     """The repository of a checked path: its own repository (``own_repository``); without
     one, a directory as given, a file's package (the nearest directory holding a
-    ``package.xml``, not above the directory's enclosing work tree) or the file's own
-    directory. (Sibling packages outside it come from the operator: ROS_PACKAGE_PATH.)"""
+    ``package.xml`` that the enclosing work tree does not hold: never that work tree nor one
+    of its directories) or the file's own directory. The same whether or not the place is
+    inside a work tree that does not hold it (installed packages' data under a virtual
+    environment in a checkout, a tarball unpacked in a home directory under git).
+    (Sibling packages outside it come from the operator: ROS_PACKAGE_PATH.)"""
     absolute = Path(os.path.abspath(os.fspath(path)))
     # a link decides nothing: its own place's directory, never where it leads
     link = os.path.islink(absolute)
@@ -266,12 +269,11 @@ def repository_for(path) -> Path:
         return _root(absolute)
     enclosing = repository_of(directory)
     for parent in (directory, *directory.parents):
-        if enclosing is not None and not _root(parent).is_relative_to(enclosing):
+        if enclosing is not None and (not _root(parent).is_relative_to(enclosing)
+                                      or tracked(enclosing, _root(parent))):
             break
         if os.path.isfile(parent / "package.xml"):
             return _root(parent)
-        if enclosing is not None and _root(parent) == enclosing:
-            break
     return _root(directory)
 
 
