@@ -284,6 +284,63 @@ def test_check_in_a_checkout_without_metadata_reads_nothing_of_the_enclosing_wor
         assert result.code == 1 and "xacro.error" in result.out, result
 
 
+def test_check_a_package_in_the_work_tree_does_not_root_a_checkout_without_metadata(
+        tmp_path, monkeypatch):
+    """A file of an untracked checkout is rooted at its own package: the package.xml found
+    above it must not be one the enclosing work tree holds (here its top: the whole home
+    directory was readable)."""
+    from tests.conftest import run_urdftool
+
+    home = tmp_path / "home"
+    home.mkdir()
+    (home / "secret.yaml").write_text(f"kind: {SECRET}\n")
+    (home / "package.xml").write_text("<package><name>home</name></package>\n")
+    _git(tmp_path, "init", "-q", str(home))
+    _git(home, "add", "secret.yaml", "package.xml")
+    robot = home / "Downloads" / "robot"
+    robot.mkdir(parents=True)
+    (robot / "robot.urdf.xacro").write_text(ROBOT.format(
+        kind="${xacro.load_yaml('../../secret.yaml')['kind']}"))
+    monkeypatch.chdir(home)
+    for mode in ("--untrusted", "--trusted"):
+        result = run_urdftool("check", mode, "Downloads/robot/robot.urdf.xacro")
+        assert SECRET not in result.out + result.err, result
+        assert result.code == 1 and "xacro.error" in result.out, result
+
+
+def test_check_an_installed_package_in_the_work_tree_reads_its_own_meshes(tmp_path, monkeypatch):
+    """The data of a package installed in a virtual environment inside the checkout (CI's
+    ``.venv``, untracked): a robot of it is rooted at its package (package.xml), as outside
+    any work tree, so its meshes beside its robots/ folder are read (it was rooted at the
+    robot's own folder: every mesh was outside the roots)."""
+    import trimesh
+
+    from tests.conftest import run_urdftool
+
+    repo = tmp_path / "team"
+    repo.mkdir()
+    (repo / "README").write_text("tracked\n")
+    _git(tmp_path, "init", "-q", str(repo))
+    _git(repo, "add", "README")
+    package = repo / ".venv" / "lib" / "site-packages" / "share" / "pkg"
+    (package / "robots").mkdir(parents=True)
+    (package / "meshes").mkdir()
+    (package / "package.xml").write_text("<package><name>pkg</name></package>\n")
+    trimesh.creation.box(extents=(0.1, 0.1, 0.1)).export(package / "meshes" / "box.stl")
+    robot = package / "robots" / "r.urdf"
+    robot.write_text('<robot name="r"><link name="a"><visual><geometry><mesh filename='
+                     '"package://pkg/meshes/box.stl"/></geometry></visual></link></robot>')
+    monkeypatch.chdir(repo)
+
+    def mesh_findings():
+        result = run_urdftool("check", "--format", "json", "--select", "mesh", str(robot))
+        return [d["message"] for f in json.loads(result.out)["files"] for d in f["diagnostics"]]
+
+    assert mesh_findings() == []
+    (package / "meshes" / "box.stl").unlink()  # (the same check finds a missing mesh)
+    assert len(mesh_findings()) == 1
+
+
 def test_action_a_changed_link_brings_no_configuration(tmp_path):
     """The configuration of a changed-files run is looked for above the first changed name:
     a committed link to another checkout (named first) brought that checkout's
