@@ -355,3 +355,18 @@ def test_action_a_changed_link_brings_no_configuration(tmp_path):
     [call] = [c for c in run.calls if c[:1] == ["check"]]
     assert call[call.index("--") + 1] == "a_link", call  # the link is the first name
     assert run.code == 1 and "schema.bad-value" in run.output, run.output
+
+
+def test_action_a_changed_link_plans_nothing_of_another_checkout(tmp_path):
+    """A changed link's package was looked for where the link leads: the other checkout's
+    robots were planned (and refused: the whole run failed with exit 2, no finding). The
+    link is data where it is written: its own package is checked."""
+    other = _other_checkout(tmp_path)
+    (other / "package.xml").write_text("<package><name>other</name></package>\n")
+    (other / "x.urdf").write_text(f'<?xml version="1.0"?>\n<robot name="{SECRET}">'
+                                  f'<link name="{SECRET}"/></robot>\n')
+    repo = _team(tmp_path)
+    _pull_request(repo, "robot_description/urdf/other", other, "sideways")
+    run = run_action(repo, {"changed-files": "true"}, {"base_ref": "main"})
+    assert SECRET not in run.output, run.output
+    assert run.code == 1 and "schema.bad-value" in run.output, run.output

@@ -363,10 +363,18 @@ def root_tag(file: Path) -> tuple[str | None, bool]:
     return (match.group(1) if match else None), re.search(r"<(?:xacro:)?macro\s", head) is not None
 
 
+def _placed(path: Path) -> Path:
+    """``path`` resolved, except a link as its last part: where it is written (a changed link
+    is data there, never where it leads: issue 28.1)."""
+    if path.is_symlink():
+        return Path(os.path.realpath(path.parent)) / path.name
+    return path.resolve()
+
+
 def package_root(path: Path) -> Path:
     """The package a file belongs to: the nearest directory above it with a ``package.xml`` or
     a configuration (an empty ``urdftool.toml`` marks one); else the file's own directory."""
-    file = path.resolve()
+    file = _placed(path)
     found = find_config(file)
     config_dir = found[0].parent if found else None
     for parent in file.parents:
@@ -447,8 +455,10 @@ def plan(paths: list[str], changed: bool = False, selection: Selection | None = 
             if given is None or path.name.endswith(ROBOT_SUFFIXES) or is_srdf_file(path) or \
                     is_launch_file(path):
                 files.append(path)  # (changed-files mode: a YAML, a mesh, a launch file only
-            if given is not None:  # re-checks the entries that read it: ``triggered``)
-                given.add(str(path.resolve()))
+            if given is not None:  # re-checks the entries that read it: ``triggered``; a
+                # link is data where it is written, never where it leads: its package is the
+                # repository's, not another checkout's)
+                given.add(str(_placed(path)))
         elif given is not None:  # changed-files mode, a file the change deletes: the entries
             given.add(real(path))  # that read it are checked (its includers' errors shown)
         else:
