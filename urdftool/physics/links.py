@@ -525,7 +525,17 @@ class TensorEffect(NamedTuple):
 
 
 class RigidBodies:
-    """Links grouped into rigid bodies (joined by fixed joints), with their masses."""
+    """Links grouped into rigid bodies (joined by fixed joints), with their masses. One per
+    robot (``of``): what it finds (bodies, members, sums) is kept for every rule and link."""
+
+    @classmethod
+    def of(cls, robot) -> RigidBodies:
+        """The robot's one RigidBodies (``Robot.memo``; issue 28: one made per link lost every
+        body found, a merge per link again)."""
+        found = robot.memo.get("rigid_bodies")
+        if found is None:
+            found = robot.memo["rigid_bodies"] = cls(robot)
+        return found
 
     def __init__(self, robot):
         self.robot = robot

@@ -282,7 +282,7 @@ the ground says so with a `world` link and a fixed joint.""",
                   '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
                   '</joint>\n' + _link("arm", "1", ("0.01", "0.01", "0.01"))))
 def mass_not_positive(robot):
-    bodies = analysis.RigidBodies(robot)
+    bodies = analysis.RigidBodies.of(robot)
     for link in robot.links:
         inertial = link.inertial
         if inertial is None or inertial.mass is None or not math.isfinite(inertial.mass):
@@ -386,7 +386,7 @@ reported once, as `inertia.kinematics-only`.""",
 def massless_moving_link(robot):
     if is_kinematics_only(robot):
         return  # one finding for the robot: inertia.kinematics-only
-    bodies = analysis.RigidBodies(robot)
+    bodies = analysis.RigidBodies.of(robot)
     # an SDF is read by Gazebo as SDF, not through its URDF reader; the massless links its
     # conversion adds (ball, universal, screw joints) are sdf.unsupported-joint's to report
     gazebo = _targets_gazebo(robot) and robot.source.kind != "sdf"
@@ -557,7 +557,7 @@ def _lumped_verdict(robot, a, severity: str, impossible: set) -> tuple[str, str]
     lumped into (``_merged_verdict``)."""
     if severity != "error" or a.link.name is None:
         return severity, ""
-    effect = analysis.RigidBodies(robot).tensor_effect(a.link.name, impossible)
+    effect = analysis.RigidBodies.of(robot).tensor_effect(a.link.name, impossible)
     return _merged_verdict(a.link.name, effect) if effect is not None else (severity, "")
 
 
