@@ -102,3 +102,30 @@ def test_a_trusted_expansion_in_a_worker_thread_stops_at_its_timeout(tmp_path, m
     assert result["seconds"] < 1.0 + 1.5, result
     stopped = "xacro: xacro expansion took longer than the time limit; expansion stopped"
     assert ("xacro.limit-exceeded", stopped) in found["rules"], found
+
+
+def test_the_watched_code_is_where_the_libraries_are_installed():
+    """The watchdog may interrupt xacro's, PyYAML's and minidom's code as installed, and the
+    interpreter: matched by their directories, never by a folder name a checkout's path holds
+    (a clone under `.../xacro/` is not xacro's code: urdftool's patching of xacro there must
+    never be interrupted)."""
+    import types
+    import xml.dom
+
+    import yaml
+
+    from urdftool import xacro_eval, xacro_expand
+
+    watched = xacro_expand.watched_code()
+    for module in (xacro, yaml, xml.dom):
+        inside = types.SimpleNamespace(f_code=types.SimpleNamespace(
+            co_filename=module.__file__), f_back=None)
+        assert budget._interruptible(inside, watched), module.__name__
+    own = types.SimpleNamespace(f_code=types.SimpleNamespace(co_filename=xacro_eval.__file__),
+                                f_back=None)
+    assert budget._interruptible(own, watched)
+    for elsewhere in ("/home/u/xacro/urdftool/xacro_expand.py", "/srv/yaml/urdftool/check.py",
+                      xacro_expand.__file__):
+        frame = types.SimpleNamespace(f_code=types.SimpleNamespace(co_filename=elsewhere),
+                                      f_back=None)
+        assert not budget._interruptible(frame, watched), elsewhere

@@ -181,9 +181,22 @@ BLANK_ATTR = "urdftool-blank"
 # seconds past the deadline after which the watchdog interrupts a trusted expansion (the
 # interpreter's own deadline stops it first when it is the one working)
 WATCHDOG_GRACE = 0.2
-# where it may interrupt: xacro's, PyYAML's and minidom's own code and the interpreter's, not
-# urdftool's patching of xacro (its restoring must run whole)
-WATCHED_CODE = ("/xacro/", "/yaml/", "/xml/dom/", "/urdftool/xacro_eval.py")
+@functools.lru_cache(maxsize=1)
+def watched_code() -> tuple[str, ...]:
+    """Where the watchdog may interrupt: xacro's, PyYAML's and minidom's own code (their
+    package directories, as installed) and the interpreter's file; never urdftool's patching
+    of xacro (its restoring must run whole), whatever directory names the checkout's path holds
+    (a clone under a folder called `xacro` is not xacro's code)."""
+    import xacro
+    import yaml
+
+    from urdftool import xacro_eval
+
+    def directory(module) -> str:
+        return os.path.dirname(os.path.abspath(module.__file__)).replace("\\", "/") + "/"
+
+    return (directory(xacro), directory(yaml), directory(xml.dom),
+            os.path.abspath(xacro_eval.__file__).replace("\\", "/"))
 
 
 def _mark_blank_only(doc) -> None:
@@ -896,7 +909,7 @@ def expand(source: Source, path: Path, options: LoadOptions) -> None:
     # (which its parent kills a second later otherwise)
     watched = timeout + WATCHDOG_GRACE if timeout else None
     try:
-        with budget.watchdog(watched, late, WATCHED_CODE):
+        with budget.watchdog(watched, late, watched_code()):
             # files only inside the run's roots (urdftool.loader), in every mode; variables
             # only the --allow-env ones
             result = _xacro_pass(source, path, options,
