@@ -174,9 +174,9 @@ def _counted(out: str, rule: str) -> tuple[int, list[str]]:
     return sum(d["rule"] == rule for d in diagnostics) + omitted, late
 
 
-# make test runs two kinds (a chain, references); every kind in CI (`slow`): the
+# make test runs three kinds (chains, references); every kind in CI (`slow`): the
 # --timeout 1 test below runs each kind once in make test
-FAST = (mimic_chain, gazebo_references)
+FAST = (mimic_chain, fixed_chain_tensors, gazebo_references)
 
 
 @pytest.mark.parametrize("case", [c if c in FAST else pytest.param(c, marks=pytest.mark.slow)
