@@ -178,7 +178,7 @@ def test_macro_instances_are_a_count_and_three_call_sites(write):
 
 def test_a_tag_across_lines_is_located_at_the_offending_attribute(write):
     path = write('<?xml version="1.0"?>\n<robot name="r">\n  <link name="a">\n'
-                 '    <inertial>\n      <mass value="0.1"/>\n'
+                 '    <inertial>\n      <mass value="1"/>\n'
                  '      <inertia ixx="0.15" ixy="0" ixz="0"\n'
                  '               iyy="0.15" iyz="0"\n'
                  '               izz="0.2" />\n    </inertial>\n'
