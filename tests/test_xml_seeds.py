@@ -197,15 +197,21 @@ def test_fix_refuses_to_overwrite_its_input(tmp_path):
     assert path.read_bytes() == before
 
 
-def test_fix_of_a_non_utf8_declaration_says_utf8(tmp_path):
+def test_fix_of_a_non_utf8_declaration_keeps_it_and_its_bytes(tmp_path):
+    """A file is read in the encoding its declaration names (6b48929: here ISO-8859-1, so the
+    UTF-8 bytes of 'caf\u00e9' are two Latin-1 characters): --fix writes it back in that
+    encoding, declaration kept, only the fixed quotes changed, and a parser reads the same
+    name from the written file as from its declaration."""
     path = tmp_path / "r.urdf"
-    path.write_bytes('<?xml version="1.0" encoding="ISO-8859-1"?>\n<robot name="r">\n'
-                     '<link name="caf\u00e9" a=1/>\n</robot>\n'.encode("utf-8"))
+    original = ('<?xml version="1.0" encoding="ISO-8859-1"?>\n<robot name="r">\n'
+                '<link name="caf\u00e9" a=1/>\n</robot>\n').encode("utf-8")
+    path.write_bytes(original)
     out = tmp_path / "out.urdf"
     run_urdftool("check", "--fix", "-o", out, path)
     fixed = out.read_bytes()
-    assert b'encoding="UTF-8"' in fixed
-    assert etree.fromstring(fixed, secure_parser())[0].get("name") == "caf\u00e9"
+    assert fixed == original.replace(b"a=1", b'a="1"')
+    assert etree.fromstring(fixed, secure_parser())[0].get("name") == \
+        "caf\u00e9".encode("utf-8").decode("latin-1")
 
 
 def test_broken_xacro_include_is_reported_in_the_included_file(tmp_path):
