@@ -102,6 +102,28 @@ def test_never_pair_that_cannot_collide_within_the_limits_is_not_reported(tmp_pa
     assert not [d for d in _check(tmp_path, NEVER, robot) if d["rule"] == "srdf.never-pair-collides"]
 
 
+def test_a_never_pair_checked_through_an_enabled_pair_of_rigidly_fixed_links(tmp_path):
+    """Franka's panda_moveit_config disables the normal links' pairs on purpose and enables
+    the pairs of capsule links fixed to them (`_sc`): MoveIt checks those bodies through the
+    enabled pair, so the disabled one is no risk (a judged false alarm on real packages). A
+    capsule pair that is not enabled covers nothing."""
+    capsules = ('  <link name="base_link_sc"><collision><geometry><sphere radius="0.2"/>'
+                '</geometry></collision></link>\n'
+                '  <joint name="base_sc" type="fixed"><parent link="base_link"/>'
+                '<child link="base_link_sc"/></joint>\n'
+                '  <link name="forearm_sc"><collision><origin xyz="0 0 0.2"/><geometry>'
+                '<cylinder radius="0.04" length="0.4"/></geometry></collision></link>\n'
+                '  <joint name="forearm_sc_joint" type="fixed"><parent link="forearm"/>'
+                '<child link="forearm_sc"/></joint>\n</robot>')
+    robot = EXAMPLE_ROBOT.replace("</robot>", capsules)
+    enabled = NEVER.replace("</robot>", '  <enable_collisions link1="base_link_sc" '
+                                        'link2="forearm_sc" reason="Default"/>\n</robot>')
+    assert not [d for d in _check(tmp_path, enabled, robot)
+                if d["rule"] == "srdf.never-pair-collides"]
+    found = [d for d in _check(tmp_path, NEVER, robot) if d["rule"] == "srdf.never-pair-collides"]
+    assert [d["line"] for d in found] == [3]
+
+
 def test_mimic_joints_follow_their_leader(tmp_path):
     # joint2 mimics 'drive' (x2): its range is +-2.8 only through the leader's +-1.4
     robot = EXAMPLE_ROBOT.replace(
@@ -257,6 +279,17 @@ def test_check_dir_pairs_an_srdf_through_setup_assistant(tmp_path):
     (repo / "arm_moveit_config" / ".setup_assistant").write_text(
         "moveit_setup_assistant_config:\n  URDF:\n    package: arm_description\n"
         "    relative_path: urdf/arm.urdf\n  SRDF:\n    relative_path: config/arm.srdf\n")
+    result = run_urdftool("check", str(repo), "--format", "json")
+    assert _findings(result) == [("arm.srdf", "srdf.unknown-link", 3)], result.out
+
+
+def test_a_moveit2_setup_assistant_file_pairs_its_srdf(tmp_path):
+    """MoveIt 2's Setup Assistant writes `urdf:`/`srdf:` (MoveIt 1's `URDF:`): every MoveIt 2
+    configuration got srdf.no-robot (ros2_kortex's, judged on real packages)."""
+    repo = _repository(tmp_path)
+    (repo / "arm_moveit_config" / ".setup_assistant").write_text(
+        "moveit_setup_assistant_config:\n  urdf:\n    package: arm_description\n"
+        "    relative_path: urdf/arm.urdf\n  srdf:\n    relative_path: config/arm.srdf\n")
     result = run_urdftool("check", str(repo), "--format", "json")
     assert _findings(result) == [("arm.srdf", "srdf.unknown-link", 3)], result.out
 

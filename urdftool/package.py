@@ -562,7 +562,10 @@ def _setup_assistant(path: Path, memo: dict) -> tuple[str, dict[str, str], str] 
     found = None
     try:
         data = yaml.safe_load(read_regular(path, 1 << 20).decode("utf-8", "replace"))
-        urdf = data["moveit_setup_assistant_config"]["URDF"]
+        # MoveIt 1's Setup Assistant writes URDF:, MoveIt 2's urdf:
+        config = data["moveit_setup_assistant_config"]
+        urdf = next(value for key, value in config.items()
+                    if isinstance(key, str) and key.lower() == "urdf")
         package, relative = urdf.get("package"), urdf.get("relative_path")
         if isinstance(package, str) and isinstance(relative, str) and package and relative:
             args: dict[str, str] = {}
@@ -573,7 +576,8 @@ def _setup_assistant(path: Path, memo: dict) -> tuple[str, dict[str, str], str] 
                     args[name] = value
             found = (f"package://{package}/{relative.lstrip('/')}", args,
                      f"{path.parent.name}/{SETUP_ASSISTANT}")
-    except (OSError, ValueError, KeyError, TypeError, AttributeError, yaml.YAMLError):
+    except (OSError, ValueError, KeyError, TypeError, AttributeError, StopIteration,
+            yaml.YAMLError):
         found = None
     known[path] = found
     return found

@@ -577,6 +577,15 @@ def _pairs_to_sample(srdf):
     occurrence of each."""
     robot = srdf.robot
     adjacent = adjacent_pairs(robot)
+    body = _rigid_bodies(robot)
+    # pairs an <enable_collisions> checks on their behalf: links rigidly fixed to the two
+    # links (Franka's capsule "_sc" links: the normal links' pairs are disabled on purpose)
+    covered = set()
+    for pair in srdf.pairs:
+        key = _pair_key(pair) if pair.enable else None
+        if key is not None and robot.link(key[0]) is not None \
+                and robot.link(key[1]) is not None:
+            covered.add(frozenset((body(key[0]), body(key[1]))))
     seen = set()
     for pair in srdf.pairs:
         if pair.enable or pair.reason != "Never":
@@ -587,7 +596,34 @@ def _pairs_to_sample(srdf):
         seen.add(key)
         if robot.link(key[0]) is None or robot.link(key[1]) is None:
             continue
+        if frozenset((body(key[0]), body(key[1]))) in covered:
+            continue  # MoveIt checks these two bodies through the enabled pair
         yield pair
+
+
+def _rigid_bodies(robot):
+    """link name -> the name of the top link of the rigid body it belongs to (links joined by
+    fixed joints are one body)."""
+    memo: dict[str, str] = {}
+
+    def top(name: str) -> str:
+        found = memo.get(name)
+        if found is not None:
+            return found
+        walked, current = [], name
+        while current not in memo:
+            walked.append(current)
+            joint = robot.parent_joint(current)
+            if joint is None or joint.type != "fixed" or joint.parent is None \
+                    or joint.parent in walked:
+                memo[current] = current
+                break
+            current = joint.parent
+        for link in walked:
+            memo[link] = memo[current]
+        return memo[name]
+
+    return top
 
 
 @rule("srdf.never-pair-collides", "error",
