@@ -168,6 +168,28 @@ def test_a_launch_file_passing_xacro_output_without_a_string_type(tmp_path):
                       "warning")], found
 
 
+def test_one_description_passed_to_several_nodes_is_one_finding(tmp_path):
+    """One cause, one finding: a description variable given to three nodes without a string
+    type (open_manipulator's launch files: three findings per file, 9 files) is one finding at
+    its first use naming the other lines."""
+    repo = _repo(tmp_path)
+    launch = repo / "arm_bringup" / "launch"
+    launch.mkdir()
+    three = LAUNCH.replace(
+        "                                   parameters=[description])])",
+        "                                   parameters=[description]),\n"
+        "        Node(package=\"a\", parameters=[{\"robot_description\": content}]),\n"
+        "        Node(package=\"b\", parameters=[{\"robot_description\": content}])])")
+    (launch / "bad.launch.py").write_text(three.replace("VALUE", "content"))
+    lines = [n for n, t in enumerate(three.splitlines(), 1) if '"robot_description"' in t]
+    assert len(lines) == 3
+    found = [d for f in json.loads(run_urdftool("check", str(repo), "--format", "json").out)
+             ["files"] for d in f["diagnostics"]
+             if d["rule"] == "ros2_control.description-not-string"]
+    assert [d["line"] for d in found] == [lines[0]], found
+    assert f"(also given so at lines {lines[1]}, {lines[2]})" in found[0]["message"]
+
+
 def test_changed_controllers_yaml_rechecks_the_robot(tmp_path, monkeypatch):
     repo = _repo(tmp_path)
     monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path / "cache"))

@@ -413,15 +413,24 @@ def description_not_string(launch):
                 value.args[0], depth + 1)
         return _call_name(value) == "Command" and _runs_xacro(value)
 
+    # one finding per parameter name and launch file (one variable passed to three nodes is
+    # one cause), at its first use, with the other uses' lines
+    uses: dict[str, list] = {}
     for node in ast.walk(tree):
         if not isinstance(node, ast.Dict):
             continue
         for key, value in zip(node.keys, node.values):
             if isinstance(key, ast.Constant) and key.value in DESCRIPTION_KEYS and \
                     value is not None and xacro_output(value):
-                yield Finding(f"'{key.value}' is the output of xacro given without "
-                              "ParameterValue(..., value_type=str): launch_ros reads it as YAML "
-                              "first, and stops when the robot's text is not a YAML string",
-                              Loc(launch.path, key.lineno, key.col_offset + 1),
-                              hint="wrap it: ParameterValue(robot_description_content, "
-                                   "value_type=str) (from launch_ros.parameter_descriptions)")
+                uses.setdefault(key.value, []).append(key)
+    for name, keys in uses.items():
+        keys.sort(key=lambda k: (k.lineno, k.col_offset))
+        first, more = keys[0], sorted({k.lineno for k in keys[1:]} - {keys[0].lineno})
+        also = f" (also given so at line{'s' if len(more) > 1 else ''} " \
+               f"{', '.join(map(str, more))})" if more else ""
+        yield Finding(f"'{name}' is the output of xacro given without "
+                      "ParameterValue(..., value_type=str): launch_ros reads it as YAML "
+                      "first, and stops when the robot's text is not a YAML string" + also,
+                      Loc(launch.path, first.lineno, first.col_offset + 1),
+                      hint="wrap it: ParameterValue(robot_description_content, "
+                           "value_type=str) (from launch_ros.parameter_descriptions)")
