@@ -808,3 +808,15 @@ def test_fast_path_summaries_match_trimesh_on_the_corpus(monkeypatch):
                                    rtol=1e-6, atol=1e-6 * np.abs(inertia).max())
         compared += 1
     assert compared >= 10, compared
+
+
+def test_meshes_of_another_machine_are_not_a_package_that_ships_none(tmp_path):
+    """Absolute paths into someone's workspace (file:///root/ws/install/...: ros2_kortex's
+    gen3_2f85.urdf) are each reported, never as "the package's meshes are not there"."""
+    package = _arm_package(tmp_path, ["a.stl", "b.stl"])
+    robot = package / "urdf" / "arm.urdf"
+    robot.write_text(robot.read_text().replace(
+        "package://arm_description/meshes/", "file:///nonexistent_ws_q/install/arm/meshes/"))
+    found = _not_found(package)
+    assert len(found) == 2, found
+    assert not any("package's meshes" in d["message"] for d in found)

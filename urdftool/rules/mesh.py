@@ -136,9 +136,13 @@ def not_found(robot):
     for a, info in _mesh_shapes(robot):
         if info.path is not None and not is_file(info.path):
             missing.setdefault(info.path.parent, []).append((a, info))
+    roots = getattr(getattr(robot.source, "resolver", None), "roots", None)
     for folder, shapes in missing.items():
         files = list(dict.fromkeys(info.path.name for _, info in shapes))
-        state = _empty_folder(folder) if len(files) > 1 else None
+        # a folder of the repository's packages (not an absolute path of another machine:
+        # file:///root/ws/install/..., each its own finding)
+        ours = roots is None or roots.readable(folder)
+        state = _empty_folder(folder) if len(files) > 1 and ours else None
         if state is not None:
             yield _folder_finding(robot, folder, state, shapes, files)
             continue
