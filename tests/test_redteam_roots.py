@@ -121,6 +121,7 @@ def test_action_a_deleted_relative_include_fails_the_pull_request(tmp_path):
     assert f"demo_description/urdf/robot.urdf.xacro:{_include_line(entry)}:" in listed[0]
 
 
+@pytest.mark.slow  # the shipped hook installs its environment (~28 s of CPU): CI
 def test_hook_a_deleted_relative_include_blocks_the_commit(shipped, tmp_path):  # noqa: F811
     """The hook is never given a deleted file (pre-commit passes what a commit adds or
     changes): a commit that deletes the relative include and retouches another fragment of

@@ -198,6 +198,7 @@ def test_rules_walking_chains_and_names_are_linear(case, tmp_path):
     assert runs[2 * SIZE]["peak_mb"] < MEMORY_MB, runs[2 * SIZE]["peak_mb"]
 
 
+@pytest.mark.slow  # every hostile file through every command (~10 s of CPU): CI
 def test_every_hostile_file_holds_with_timeout_1(tmp_path):
     """Every kind at 2N, ``--timeout 1`` (every rule, not only the family): within the
     budget's CPU and MEMORY_MB; the rules all ran, or ONE finding says which rule ran out and
