@@ -19,11 +19,9 @@ from __future__ import annotations
 
 import json
 import os
-import resource
 import subprocess
 import sys
 import tempfile
-import threading
 import time
 from pathlib import Path
 
@@ -133,30 +131,43 @@ CASES = [two_parents, two_parents_masses, mimic_chain, fixed_chain_tensors, fixe
          transmission_joints, mimic_leaders, joint_links, materials]
 
 
+# Linux keeps a process's peak RSS across fork and exec (ru_maxrss starts at its parent's
+# RSS when forked): a run forked from a pytest worker that grew to 1.4 GB "peaked" at 1.4 GB.
+# So a small launcher (its own fresh, small memory after exec) starts the run and reports the
+# run's wait4: the peak is the run's own.
+LAUNCHER = """
+import json, os, resource, subprocess, sys
+cpu_kill = int(sys.argv[1])
+def limit():
+    resource.setrlimit(resource.RLIMIT_CPU, (cpu_kill, cpu_kill + 1))
+process = subprocess.Popen(sys.argv[2:], preexec_fn=limit, stderr=subprocess.STDOUT)
+_, status, usage = os.wait4(process.pid, 0)
+process.returncode = 0  # reaped by wait4: Popen must not wait again
+print(json.dumps([os.waitstatus_to_exitcode(status), usage.ru_utime + usage.ru_stime,
+                  usage.ru_maxrss]), file=sys.stderr)
+"""
+
+
 def measured(args: list[str], cwd) -> dict:
     """``urdftool ARGS`` as the Action runs it (CI=true), in its own process: exit code,
-    output, CPU seconds and peak MB of it and the children it waited for (``wait4``), killed
-    at CPU_KILL seconds of CPU."""
+    output, CPU seconds and peak MB of it and the children it waited for (``wait4``, through
+    ``LAUNCHER``), killed at CPU_KILL seconds of CPU."""
     env = {**os.environ, "CI": "true", "NO_COLOR": "1"}
     env.pop("URDFTOOL_CACHE_DIR", None)
 
     with tempfile.TemporaryFile() as out:
-        process = subprocess.Popen([*URDFTOOL, *args], stdout=out, stderr=subprocess.STDOUT,
-                                   cwd=cwd, env=env)
-        resource.prlimit(process.pid, resource.RLIMIT_CPU, (CPU_KILL, CPU_KILL + 1))
-        done: dict = {}
-        waiter = threading.Thread(target=lambda: done.update(r=os.wait4(process.pid, 0)))
-        waiter.start()
-        waiter.join(CPU_KILL * 8)  # wall: a loaded machine; RLIMIT_CPU ends a spinning run
-        if waiter.is_alive():
-            process.kill()
-            waiter.join()
-        process.returncode = 0  # reaped by wait4: Popen must not wait again
-        _, status, usage = done["r"]
+        process = subprocess.Popen([sys.executable, "-c", LAUNCHER, str(CPU_KILL), *URDFTOOL,
+                                    *args], stdout=out, stderr=subprocess.PIPE, cwd=cwd, env=env,
+                                   start_new_session=True)
+        try:
+            _, report = process.communicate(timeout=CPU_KILL * 8)  # wall: a loaded machine;
+        except subprocess.TimeoutExpired:  # RLIMIT_CPU ends a spinning run
+            os.killpg(process.pid, 9)
+            _, report = process.communicate()
         out.seek(0)
         text = out.read().decode("utf-8", "replace")
-    return {"code": os.waitstatus_to_exitcode(status), "out": text,
-            "cpu": usage.ru_utime + usage.ru_stime, "peak_mb": usage.ru_maxrss / 1024}
+    code, cpu, peak = json.loads(report.decode().strip().splitlines()[-1])
+    return {"code": code, "out": text, "cpu": cpu, "peak_mb": peak / 1024}
 
 
 def _write(tmp_path: Path, case, n: int) -> tuple[Path, str, int]:
