@@ -542,6 +542,17 @@ def test_a_slip_in_the_mesh_folder_name_is_fixed(tmp_path):
     assert _not_found(package) == []
 
 
+def _misspelt_package(robot) -> dict:
+    """The one mesh.unresolved finding of ``robot`` once its package:// names are misspelt
+    arm_descripton."""
+    robot.write_text(robot.read_text().replace("package://arm_description/",
+                                               "package://arm_descripton/"))
+    result = run_urdftool("check", "--format", "json", "--jobs", "1", str(robot))
+    (found,) = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
+                if d["rule"] == "mesh.unresolved"]
+    return found
+
+
 def test_a_slip_in_a_mesh_package_name_is_fixed(tmp_path):
     """mesh.unresolved: `package://arm_descripton/...` beside package arm_description gets
     that name as its safe fix, for every mesh of that package name; a name near two packages
@@ -551,11 +562,7 @@ def test_a_slip_in_a_mesh_package_name_is_fixed(tmp_path):
     for name in ("a.stl", "b.stl"):
         (package / "meshes" / name).write_text("solid x\nendsolid x\n")
     robot = package / "urdf" / "arm.urdf"
-    robot.write_text(robot.read_text().replace("package://arm_description/",
-                                               "package://arm_descripton/"))
-    result = run_urdftool("check", "--format", "json", "--jobs", "1", str(robot))
-    (found,) = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
-                if d["rule"] == "mesh.unresolved"]
+    found = _misspelt_package(robot)
     assert "did you mean package 'arm_description'?" in found["hint"]
     assert [(e["line"], e["text"]) for e in found["fix"]["edits"]] == \
         [(2, "package://arm_description/"), (3, "package://arm_description/")]
@@ -569,13 +576,9 @@ def test_a_slip_in_a_mesh_package_name_is_fixed(tmp_path):
     other.mkdir()
     (other / "package.xml").write_text("<package><name>arm_descripion</name></package>")
     subprocess.run(["git", "init", "-q", str(two)], check=True)
-    robot = package / "urdf" / "arm.urdf"
-    robot.write_text(robot.read_text().replace("package://arm_description/",
-                                               "package://arm_descripton/"))
-    result = run_urdftool("check", "--format", "json", "--jobs", "1", str(robot))
-    (found,) = [d for f in json.loads(result.out)["files"] for d in f["diagnostics"]
-                if d["rule"] == "mesh.unresolved"]
+    found = _misspelt_package(package / "urdf" / "arm.urdf")
     assert "did you mean" not in found["hint"] and not found.get("fix")
+
 
 def _collada(tmp_path, name, mesh, asset="", edit=None):
     """``mesh`` written as COLLADA by trimesh, with ``asset`` added to its <asset> and ``edit``

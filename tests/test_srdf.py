@@ -274,22 +274,15 @@ def _findings(result) -> list[tuple[str, str, int]]:
             if d["rule"].startswith("srdf.")]
 
 
-def test_check_dir_pairs_an_srdf_through_setup_assistant(tmp_path):
+@pytest.mark.parametrize("urdf, srdf", [("URDF", "SRDF"), ("urdf", "srdf")],
+                         ids=["moveit1", "moveit2"])
+def test_check_dir_pairs_an_srdf_through_setup_assistant(tmp_path, urdf, srdf):
+    """MoveIt 1's Setup Assistant writes `URDF:`, MoveIt 2's `urdf:` (every MoveIt 2
+    configuration got srdf.no-robot: ros2_kortex's, judged on real packages)."""
     repo = _repository(tmp_path)
     (repo / "arm_moveit_config" / ".setup_assistant").write_text(
-        "moveit_setup_assistant_config:\n  URDF:\n    package: arm_description\n"
-        "    relative_path: urdf/arm.urdf\n  SRDF:\n    relative_path: config/arm.srdf\n")
-    result = run_urdftool("check", str(repo), "--format", "json")
-    assert _findings(result) == [("arm.srdf", "srdf.unknown-link", 3)], result.out
-
-
-def test_a_moveit2_setup_assistant_file_pairs_its_srdf(tmp_path):
-    """MoveIt 2's Setup Assistant writes `urdf:`/`srdf:` (MoveIt 1's `URDF:`): every MoveIt 2
-    configuration got srdf.no-robot (ros2_kortex's, judged on real packages)."""
-    repo = _repository(tmp_path)
-    (repo / "arm_moveit_config" / ".setup_assistant").write_text(
-        "moveit_setup_assistant_config:\n  urdf:\n    package: arm_description\n"
-        "    relative_path: urdf/arm.urdf\n  srdf:\n    relative_path: config/arm.srdf\n")
+        f"moveit_setup_assistant_config:\n  {urdf}:\n    package: arm_description\n"
+        f"    relative_path: urdf/arm.urdf\n  {srdf}:\n    relative_path: config/arm.srdf\n")
     result = run_urdftool("check", str(repo), "--format", "json")
     assert _findings(result) == [("arm.srdf", "srdf.unknown-link", 3)], result.out
 
