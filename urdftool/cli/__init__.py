@@ -315,8 +315,12 @@ def load_robot(path: str, packages: tuple[str, ...] = (), xacro_args: dict | Non
     try:
         source = load(path, options)
         robot = build_robot(source)
-        if source.root is None or not robot.links or any(  # read it as check does: through
-                rule.startswith("xml.") for rule, _ in source.problems):  # its safe fixes
+        # read it as check does: through its safe fixes; never again after a reading stopped
+        # at a limit (no safe fix moves it, and a second reading spent the rest of the run's
+        # budget on the same wall: `tree` took both --timeouts on a sort with a lambda key)
+        stopped = any(rule == "xacro.limit-exceeded" for rule, _ in source.problems)
+        if not stopped and (source.root is None or not robot.links or any(
+                rule.startswith("xml.") for rule, _ in source.problems)):
             fixed = _through_safe_fixes(path, options)
             if fixed is not None:
                 source, robot, count = fixed
