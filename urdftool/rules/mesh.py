@@ -356,6 +356,16 @@ def unreadable(robot):
                           f"{mesh.error}", _loc(info), severity="warning" if lenient else None)
 
 
+def _not_read(shapes, why: str, hint: str) -> Finding:
+    """One finding for the meshes of ``shapes`` that were not read for one cause: which files,
+    which rules did not check them, on which links."""
+    files = list(dict.fromkeys(info.path.name for _, info in shapes))
+    links = list(dict.fromkeys(str(a.link.name) for a, _ in shapes))
+    return Finding(f"{len(files)} mesh file(s) ({_names(files)}) {why} {_MESH_RULES} did not "
+                   f"check them and {_GEOMETRY_RULES} did not run on {_names(links)}",
+                   _loc(shapes[0][1]), hint=hint)
+
+
 def _lfs(mesh) -> bool:
     from urdftool.physics import meshes  # loaded already: this mesh was read
 
@@ -413,19 +423,11 @@ def not_checked(robot):
         elif info.mesh is not None and info.mesh.error is not None and _lfs(info.mesh):
             pointers.append((a, info))
     if pointers:  # one cause: the checkout (its meshes are fine where they were pulled)
-        files = list(dict.fromkeys(info.path.name for _, info in pointers))
-        links = list(dict.fromkeys(str(a.link.name) for a, _ in pointers))
-        yield Finding(f"{len(files)} mesh file(s) ({_names(files)}) are Git LFS pointers: this "
-                      f"checkout did not pull them, so {_MESH_RULES} did not check them and "
-                      f"{_GEOMETRY_RULES} did not run on {_names(links)}", _loc(pointers[0][1]),
-                      hint="git lfs pull (in GitHub Actions: actions/checkout with lfs: true)")
+        yield _not_read(pointers, "are Git LFS pointers: this checkout did not pull them, so",
+                        "git lfs pull (in GitHub Actions: actions/checkout with lfs: true)")
     if slow:  # not known to be broken: stopped at the time limit (hostile, or a loaded machine)
-        files = list(dict.fromkeys(info.path.name for _, info in slow))
-        links = list(dict.fromkeys(str(a.link.name) for a, _ in slow))
-        yield Finding(f"{len(files)} mesh file(s) ({_names(files)}) were not read within the "
-                      f"time limit: {_MESH_RULES} did not check them and {_GEOMETRY_RULES} did "
-                      f"not run on {_names(links)}", _loc(slow[0][1]),
-                      hint="--timeout SECONDS (each mesh is given that long)")
+        yield _not_read(slow, "were not read within the time limit:",
+                        "--timeout SECONDS (each mesh is given that long)")
     for problem, shapes in skipped.items():
         links = list(dict.fromkeys(str(a.link.name) for a, _ in shapes))
         files = list(dict.fromkeys(info.path.name for _, info in shapes))
