@@ -21,7 +21,7 @@ from tests.conftest import (
     pybullet_urdfs,
 )
 from tests.test_inertia_corpus import INERTIA_KNOWN_DEFECTS
-from tests.waivers import Entry, Waiver, by_file, problems
+from tests.waivers import Entry, Waiver, by_file, in_each, problems
 from urdftool.check import CheckOptions, check_file
 from urdftool.source import LoadOptions
 
@@ -170,26 +170,18 @@ KNOWN_DEFECTS: list[Entry] = [
     # -- geometry ----------------------------------------------------------------------------------
     ("geometry.nonpositive-size",
      "toe visuals are spheres of radius 0 (draw nothing; URDF 1.2 parsers reject them)",
-     {"pybullet_data/laikago/laikago_toes.urdf": [
+     {**in_each(("pybullet_data/laikago/laikago_toes.urdf",
+                 "pybullet_data/laikago/laikago_toes_limits.urdf"), [
           (475, "'toeRL'"),
           (508, "'toeRR'"),
           (541, "'toeFL'"),
-          (574, "'toeFR'")],
-      "pybullet_data/laikago/laikago_toes_limits.urdf": [
-          (475, "'toeRL'"),
-          (508, "'toeRR'"),
-          (541, "'toeFL'"),
-          (574, "'toeFR'")],
-      "pybullet_data/laikago/laikago_toes_zup.urdf": [
+          (574, "'toeFR'")]),
+      **in_each(("pybullet_data/laikago/laikago_toes_zup.urdf",
+                 "pybullet_data/laikago/laikago_toes_zup_lores.urdf"), [
           (477, "'toeRL'"),
           (510, "'toeRR'"),
           (543, "'toeFL'"),
-          (576, "'toeFR'")],
-      "pybullet_data/laikago/laikago_toes_zup_lores.urdf": [
-          (477, "'toeRL'"),
-          (510, "'toeRR'"),
-          (543, "'toeFL'"),
-          (576, "'toeFR'")]}),
+          (576, "'toeFR'")])}),
     # issue 14: dynamics models without any <collision>; `sim` drops them through the floor
     # (sim.sink), so `check` says so too
     ("geometry.no-collision",
@@ -347,8 +339,9 @@ KNOWN_DEFECTS: list[Entry] = [
     ("material.redefined",
      ("an inline 'DarkGrey' with another colour than the first definition: urdfdom keeps the "
       "first, the written colour is ignored"),
-     {"example-robot-data/robots/talos_data/robots/talos_full_v2.urdf": [(278, "'DarkGrey'")],
-      "example-robot-data/robots/talos_data/robots/talos_full_v2_box.urdf": [(278, "'DarkGrey'")]}),
+     {**in_each(("example-robot-data/robots/talos_data/robots/talos_full_v2.urdf",
+                 "example-robot-data/robots/talos_data/robots/talos_full_v2_box.urdf"), [
+          (278, "'DarkGrey'")])}),
     # -- gazebo ------------------------------------------------------------------------------------
     ("gazebo.unknown-reference",
      ('<gazebo reference="wheel_{side}_joint">, "caster_{side}_1_joint" and '
@@ -385,32 +378,33 @@ KNOWN_DEFECTS: list[Entry] = [
     ("xml.declaration",
      ('<?xml version="0.0"?>: only XML 1.0 exists, strict parsers (lxml, expat, so xacro) reject '
       "it"),
-     {"pybullet_data/bicycle/bike.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/quadruped/minitaur.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/quadruped/quadruped.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/table/table.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/cube_small.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/duck_vhacd.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/gripper/wsg50_one_motor_gripper_left_finger.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/gripper/wsg50_one_motor_gripper_right_finger.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/jenga/jenga.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/lego/lego.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/plane.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/plane100.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/quadruped/minitaur_derpy.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/quadruped/minitaur_fixed_all.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/quadruped/minitaur_fixed_knees.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/quadruped/minitaur_single_motor.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/quadruped/minitaur_v1.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/samurai.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/sphere2.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/sphere2red.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/sphere2red_nocol.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/sphere8cube.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/sphere_small.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/sphere_with_restitution.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/table_square/table_square.urdf": [(1, 'version "0.0"')],
-      "pybullet_data/teddy_vhacd.urdf": [(1, 'version "0.0"')]}),
+     {**in_each(("pybullet_data/bicycle/bike.urdf",
+                 "pybullet_data/quadruped/minitaur.urdf",
+                 "pybullet_data/quadruped/quadruped.urdf",
+                 "pybullet_data/table/table.urdf",
+                 "pybullet_data/cube_small.urdf",
+                 "pybullet_data/duck_vhacd.urdf",
+                 "pybullet_data/gripper/wsg50_one_motor_gripper_left_finger.urdf",
+                 "pybullet_data/gripper/wsg50_one_motor_gripper_right_finger.urdf",
+                 "pybullet_data/jenga/jenga.urdf",
+                 "pybullet_data/lego/lego.urdf",
+                 "pybullet_data/plane.urdf",
+                 "pybullet_data/plane100.urdf",
+                 "pybullet_data/quadruped/minitaur_derpy.urdf",
+                 "pybullet_data/quadruped/minitaur_fixed_all.urdf",
+                 "pybullet_data/quadruped/minitaur_fixed_knees.urdf",
+                 "pybullet_data/quadruped/minitaur_single_motor.urdf",
+                 "pybullet_data/quadruped/minitaur_v1.urdf",
+                 "pybullet_data/samurai.urdf",
+                 "pybullet_data/sphere2.urdf",
+                 "pybullet_data/sphere2red.urdf",
+                 "pybullet_data/sphere2red_nocol.urdf",
+                 "pybullet_data/sphere8cube.urdf",
+                 "pybullet_data/sphere_small.urdf",
+                 "pybullet_data/sphere_with_restitution.urdf",
+                 "pybullet_data/table_square/table_square.urdf",
+                 "pybullet_data/teddy_vhacd.urdf"), [
+          (1, 'version "0.0"')])}),
     ("xml.declaration",
      ("three blank lines before <?xml ...?>: strict parsers reject a declaration that is not "
       "first"),

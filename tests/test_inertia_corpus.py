@@ -11,7 +11,7 @@ but every other consumer (Gazebo, pinocchio, Drake, MuJoCo) uses them as written
 
 from __future__ import annotations
 
-from tests.waivers import Entry
+from tests.waivers import Entry, in_each
 
 PB, ERD = "pybullet_data/", "example-robot-data/robots/"
 EXCEEDS, COM, TRIANGLE = ("inertia.exceeds-geometry", "inertia.com-outside-geometry",
@@ -113,8 +113,9 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
           (328, "'panda_grasptarget'")]}),
     (EXCEEDS,
      placeholder("finger", "0.1 kg·m² on 0.2 kg, 754x"),
-     {f"{PB}gripper/wsg50_one_motor_gripper_left_finger.urdf": [(11, "'baseLink'")],
-      f"{PB}gripper/wsg50_one_motor_gripper_right_finger.urdf": [(11, "'baseLink'")]}),
+     {**in_each((f"{PB}gripper/wsg50_one_motor_gripper_left_finger.urdf",
+                 f"{PB}gripper/wsg50_one_motor_gripper_right_finger.urdf"), [
+          (11, "'baseLink'")])}),
     (EXCEEDS,
      placeholder("ankles, shoulders, elbows, wrists",
                  "0.1 kg·m² on 0.5–1.5 kg, 2x–8x what fits in their capsules"),
@@ -176,7 +177,8 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
           (370, "'RL_hip_motor'"),
           (406, "'RL_upper_leg'"),
           (443, "'RL_lower_leg'")],
-      f"{PB}laikago/laikago_toes.urdf": [
+      **in_each((f"{PB}laikago/laikago_toes.urdf",
+                 f"{PB}laikago/laikago_toes_limits.urdf"), [
           (35, "'FR_hip_motor'"),
           (70, "'FR_upper_leg'"),
           (105, "'FR_lower_leg'"),
@@ -188,33 +190,16 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
           (327, "'RR_lower_leg'"),
           (363, "'RL_hip_motor'"),
           (399, "'RL_upper_leg'"),
-          (436, "'RL_lower_leg'")],
-      f"{PB}laikago/laikago_toes_limits.urdf": [
-          (35, "'FR_hip_motor'"),
-          (70, "'FR_upper_leg'"),
-          (105, "'FR_lower_leg'"),
-          (140, "'FL_hip_motor'"),
-          (176, "'FL_upper_leg'"),
-          (215, "'FL_lower_leg'"),
-          (256, "'RR_hip_motor'"),
-          (292, "'RR_upper_leg'"),
-          (327, "'RR_lower_leg'"),
-          (363, "'RL_hip_motor'"),
-          (399, "'RL_upper_leg'"),
-          (436, "'RL_lower_leg'")]}),
+          (436, "'RL_lower_leg'")])}),
     (EXCEEDS,
      ("lower legs: 0.002 kg·m² on 0.241 kg is 6.6x what fits within 3.6 cm of the axis in the leg "
       "mesh"),
-     {f"{PB}laikago/laikago_toes_zup.urdf": [
+     {**in_each((f"{PB}laikago/laikago_toes_zup.urdf",
+                 f"{PB}laikago/laikago_toes_zup_lores.urdf"), [
           (105, "'FR_lower_leg'"),
           (216, "'FL_lower_leg'"),
           (329, "'RR_lower_leg'"),
-          (438, "'RL_lower_leg'")],
-      f"{PB}laikago/laikago_toes_zup_lores.urdf": [
-          (105, "'FR_lower_leg'"),
-          (216, "'FL_lower_leg'"),
-          (329, "'RR_lower_leg'"),
-          (438, "'RL_lower_leg'")]}),
+          (438, "'RL_lower_leg'")])}),
     (EXCEEDS,
      placeholder("brick", "1 kg·m² on 0.1 kg"),
      {f"{PB}lego/lego.urdf": [(13, "'legobrick'")]}),
@@ -233,8 +218,7 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
           (403, "'thigh_hl'")]}),
     (EXCEEDS,
      placeholder("mug", "1 kg·m² on 1 kg, 154x"),
-     {f"{PB}objects/mug.urdf": [(9, "'base_link'")],
-      f"{PB}urdf/mug.urdf": [(9, "'base_link'")]}),
+     {**in_each((f"{PB}objects/mug.urdf", f"{PB}urdf/mug.urdf"), [(9, "'base_link'")])}),
     (EXCEEDS,
      "link0: 0.00495 kg·m² on 1 kg is 1.98x what fits within 5 cm of the axis in its sphere",
      {f"{PB}pendulum5.urdf": [(29, "'link0'")]}),
@@ -555,10 +539,10 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
      {f"{PB}teddy_vhacd.urdf": [(13, "'baseLink'")]}),
     (TRIANGLE,
      "link3: 0.00202 + 0.0043 < 0.00731 kg·m² (13% short)",
-     {f"{PB}xarm/link3.urdf": [(64, "'link3'")],
-      f"{PB}xarm/link3_com.urdf": [(64, "'link3'")],
-      f"{PB}xarm/xarm6_robot.urdf": [(140, "'link3'")],
-      f"{PB}xarm/xarm6_robot_white.urdf": [(140, "'link3'")],
+     {**in_each((f"{PB}xarm/link3.urdf", f"{PB}xarm/link3_com.urdf"), [(64, "'link3'")]),
+      **in_each((f"{PB}xarm/xarm6_robot.urdf",
+                 f"{PB}xarm/xarm6_robot_white.urdf"), [
+          (140, "'link3'")]),
       f"{PB}xarm/xarm6_with_gripper.urdf": [(133, "'link3'")]}),
     # -- example-robot-data ----------------------------------------------------------------
     (EXCEEDS,
@@ -566,15 +550,11 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
      {f"{ERD}a1_description/urdf/a1.urdf": [(54, "'imu_link'")]}),
     (COM,
      "Left/RightGripperYawLink: COM 2.2 cm off a part 8 mm thick",
-     {f"{ERD}alex_description/urdf/alex_nub_hands.urdf": [
+     {**in_each((f"{ERD}alex_description/urdf/alex_nub_hands.urdf",
+                 f"{ERD}alex_description/urdf/alex_sake_hands.urdf",
+                 f"{ERD}alex_description/urdf/alex_psyonic_hands.urdf"), [
           (501, "'LeftGripperYawLink'"),
-          (807, "'RightGripperYawLink'")],
-      f"{ERD}alex_description/urdf/alex_sake_hands.urdf": [
-          (501, "'LeftGripperYawLink'"),
-          (807, "'RightGripperYawLink'")],
-      f"{ERD}alex_description/urdf/alex_psyonic_hands.urdf": [
-          (501, "'LeftGripperYawLink'"),
-          (807, "'RightGripperYawLink'")]}),
+          (807, "'RightGripperYawLink'")])}),
     (EXCEEDS,
      ("finger L2 links 1.5x and thumb L2 links 2x–2.3x what their mass can have inside the finger "
       "meshes"),
@@ -598,8 +578,9 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
           (1342, "'Right_thumb_base'")]}),
     (COM,
      "palm_link: COM 4.6 cm outside the palm (48% of its width)",
-     {f"{ERD}allegro_hand_description/urdf/allegro_left_hand.urdf": [(33, "'palm_link'")],
-      f"{ERD}allegro_hand_description/urdf/allegro_right_hand.urdf": [(33, "'palm_link'")]}),
+     {**in_each((f"{ERD}allegro_hand_description/urdf/allegro_left_hand.urdf",
+                 f"{ERD}allegro_hand_description/urdf/allegro_right_hand.urdf"), [
+          (33, "'palm_link'")])}),
     (EXCEEDS,
      "finger links 1.3x–4.3x what their 12–65 g can have within the finger meshes",
      {f"{ERD}allegro_hand_description/urdf/allegro_left_hand.urdf": [
@@ -635,13 +616,15 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
     (PERMUTED,
      ("imu_link: the largest moment is written as iyy; the IMU box's largest moment is about z "
       "(iyy and izz swapped)"),
-     {f"{ERD}anymal_b_simple_description/robots/anymal.urdf": [(871, "'imu_link'")],
-      f"{ERD}anymal_b_simple_description/robots/anymal-kinova.urdf": [(871, "'imu_link'")]}),
+     {**in_each((f"{ERD}anymal_b_simple_description/robots/anymal.urdf",
+                 f"{ERD}anymal_b_simple_description/robots/anymal-kinova.urdf"), [
+          (871, "'imu_link'")])}),
     (TRIANGLE,
      ("the dummy 'base' link has every tensor entry 1e-6 (products included): principal moments "
       "0, 0, 3e-6"),
-     {f"{ERD}anymal_b_simple_description/robots/anymal.urdf": [(105, "'base'")],
-      f"{ERD}anymal_b_simple_description/robots/anymal-kinova.urdf": [(105, "'base'")]}),
+     {**in_each((f"{ERD}anymal_b_simple_description/robots/anymal.urdf",
+                 f"{ERD}anymal_b_simple_description/robots/anymal-kinova.urdf"), [
+          (105, "'base'")])}),
     (COM,
      "wide-angle cameras: COM 2.9 cm off a 3.4 cm-thick camera",
      {f"{ERD}anymal_c_simple_description/urdf/anymal.urdf": [
@@ -731,8 +714,9 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
      {f"{ERD}finger_edu_description/robots/finger_edu.urdf": [(97, "'finger_base_link'")]}),
     (COM,
      "logo_link: COM 0.26 m from a 3 cm logo plate (the pelvis COM copied)",
-     {f"{ERD}g1_description/urdf/g1_29dof_rev_1_0.urdf": [(496, "'logo_link'")],
-      f"{ERD}g1_description/urdf/g1_29dof_with_hand_rev_1_0.urdf": [(496, "'logo_link'")]}),
+     {**in_each((f"{ERD}g1_description/urdf/g1_29dof_rev_1_0.urdf",
+                 f"{ERD}g1_description/urdf/g1_29dof_with_hand_rev_1_0.urdf"), [
+          (496, "'logo_link'")])}),
     (COM,
      ("flying_arm_2__link2: COM (0, -0.1149, -0.021) 1.05 cm outside its Y_UP mesh as the ROS "
       "tools draw it (not rotated, issue 29)"),
@@ -780,20 +764,18 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
           (438, "'rf_foot'"),
           (653, "'lh_foot'"),
           (868, "'rh_foot'")]}),
-
     (EXCEEDS,
      ("l_foot, r_foot: iyy 0.004116 kg·m² on 0.5935 kg, 1.7x-1.76x m r² of the Y_UP foot meshes as the "
       "ROS tools draw them (see the comment above)"),
-     {f"{ERD}icub_description/robots/icub.urdf": [
+     {**in_each((f"{ERD}icub_description/robots/icub.urdf",
+                 f"{ERD}icub_description/robots/icub_reduced.urdf"), [
           (117, "'l_foot'"),
-          (493, "'r_foot'")],
-      f"{ERD}icub_description/robots/icub_reduced.urdf": [
-          (117, "'l_foot'"),
-          (493, "'r_foot'")]}),
+          (493, "'r_foot'")])}),
     (COM,
      ("l_hip_1: COM 3.4 cm outside an 8 cm part (r_hip_1, its mirror, is inside); with the Y_UP "
       "meshes as drawn, the shoulders, arms and legs too"),
-     {f"{ERD}icub_description/robots/icub.urdf": [
+     {**in_each((f"{ERD}icub_description/robots/icub.urdf",
+                 f"{ERD}icub_description/robots/icub_reduced.urdf"), [
           (146, "'l_forearm'"),
           (213, "'l_hip_1'"),
           (266, "'l_lower_leg'"),
@@ -802,17 +784,8 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
           (379, "'l_upper_leg'"),
           (522, "'r_forearm'"),
           (665, "'r_shoulder_1'"),
-          (725, "'r_upper_arm'")],
-      f"{ERD}icub_description/robots/icub_reduced.urdf": [
-          (146, "'l_forearm'"),
-          (213, "'l_hip_1'"),
-          (266, "'l_lower_leg'"),
-          (289, "'l_shoulder_1'"),
-          (349, "'l_upper_arm'"),
-          (379, "'l_upper_leg'"),
-          (522, "'r_forearm'"),
-          (665, "'r_shoulder_1'"),
-          (725, "'r_upper_arm'")]}),
+          (725, "'r_upper_arm'")])}),
+
     (NPD,
      ("head, neck, wrists, hips, ankles, legs: 0.1–2.2 kg with zero inertia on moving joints "
       "(point masses; entries like 1e-20)"),
@@ -844,16 +817,12 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
           (779, "'r_wrist_1'")]}),
     (EXCEEDS,
      "rotors: 2.7e-4 kg·m² on 5 g is 3x what a 5 g propeller of 13 cm radius can have",
-     {f"{ERD}iris_description/robots/iris.urdf": [
+     {**in_each((f"{ERD}iris_description/robots/iris.urdf",
+                 f"{ERD}iris_description/robots/iris_simple.urdf"), [
           (68, "'iris__rotor_0'"),
           (87, "'iris__rotor_1'"),
           (106, "'iris__rotor_2'"),
-          (125, "'iris__rotor_3'")],
-      f"{ERD}iris_description/robots/iris_simple.urdf": [
-          (68, "'iris__rotor_0'"),
-          (87, "'iris__rotor_1'"),
-          (106, "'iris__rotor_2'"),
-          (125, "'iris__rotor_3'")]}),
+          (125, "'iris__rotor_3'")])}),
     (EXCEEDS,
      ("panda_link1 0.70 kg·m² on 4.97 kg (5.9x what fits in the link mesh), link2 3.3x, link7 "
       "2.4x"),
@@ -991,13 +960,15 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
      {f"{ERD}so_arm_description/urdf/so100.urdf": [(169, "'jaw'")]}),
     (EXCEEDS,
      "imu_link: 1e-6 kg·m² on 10 g in a 1 cm box (2x)",
-     {f"{ERD}talos_data/robots/talos_full_v2.urdf": [(116, "'imu_link'")],
-      f"{ERD}talos_data/robots/talos_full_v2_box.urdf": [(116, "'imu_link'")]}),
+     {**in_each((f"{ERD}talos_data/robots/talos_full_v2.urdf",
+                 f"{ERD}talos_data/robots/talos_full_v2_box.urdf"), [
+          (116, "'imu_link'")])}),
     (UNRESOLVED,
      ("meshes written package:///example-robot-data/... (empty package name): ROS's "
       "resource_retriever rejects them"),
-     {f"{ERD}talos_data/robots/talos_full_v2.urdf": [(31, "'torso_2_link'")],
-      f"{ERD}talos_data/robots/talos_full_v2_box.urdf": [(31, "'torso_2_link'")]}),
+     {**in_each((f"{ERD}talos_data/robots/talos_full_v2.urdf",
+                 f"{ERD}talos_data/robots/talos_full_v2_box.urdf"), [
+          (31, "'torso_2_link'")])}),
     (EXCEEDS,
      "gripper_left_motor_double_link: 1.16e-3 kg·m² on 0.169 kg, 1.5x what fits in its mesh",
      {f"{ERD}talos_data/robots/talos_left_arm.urdf": [(489, "'gripper_left_motor_double_link'")]}),
@@ -1022,8 +993,9 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
     (PERMUTED,
      ("rgbd_link: ixx, iyy, izz = 3e-5, 3e-5, 2e-6 belong to the box's x, z, y axes (iyy and izz "
       "swapped against the camera box)"),
-     {f"{ERD}talos_data/robots/talos_reduced.urdf": [(290, "'rgbd_link'")],
-      f"{ERD}talos_data/robots/talos_reduced_box.urdf": [(290, "'rgbd_link'")],
+     {**in_each((f"{ERD}talos_data/robots/talos_reduced.urdf",
+                 f"{ERD}talos_data/robots/talos_reduced_box.urdf"), [
+          (290, "'rgbd_link'")]),
       f"{ERD}talos_data/robots/talos_reduced_corrected.urdf": [(287, "'rgbd_link'")]}),
     (COM,
      "torso_fixed_link: COM 5 cm outside the 11 cm-thick torso shape",
@@ -1032,12 +1004,10 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
       f"{ERD}tiago_description/robots/tiago_no_hand.urdf": [(658, "'torso_fixed_link'")]}),
     (NPD,
      "base_antenna_left/right_link: principal moment -3.5e-8 kg·m² (wrong-sign products)",
-     {f"{ERD}tiago_description/robots/tiago.urdf": [
+     {**in_each((f"{ERD}tiago_description/robots/tiago.urdf",
+                 f"{ERD}tiago_description/robots/tiago_dual.urdf"), [
           (179, "'base_antenna_left_link'"),
-          (208, "'base_antenna_right_link'")],
-      f"{ERD}tiago_description/robots/tiago_dual.urdf": [
-          (179, "'base_antenna_left_link'"),
-          (208, "'base_antenna_right_link'")],
+          (208, "'base_antenna_right_link'")]),
       f"{ERD}tiago_description/robots/tiago_no_hand.urdf": [
           (180, "'base_antenna_left_link'"),
           (209, "'base_antenna_right_link'")]}),
@@ -1174,34 +1144,25 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
     (COM,
      ("wrist_1/2/3 put the COM at the joint origin (0 0 0) while the wrist meshes lie entirely to "
       "one side of it (0.04–0.06 m away): the old ur_description COMs"),
-     {f"{ERD}ur_description/urdf/ur10_robot.urdf": [
+     {**in_each((f"{ERD}ur_description/urdf/ur10_robot.urdf",
+                 f"{ERD}ur_description/urdf/ur10_joint_limited_robot.urdf"), [
           (145, "'wrist_1_link'"),
           (170, "'wrist_2_link'"),
-          (195, "'wrist_3_link'")],
-      f"{ERD}ur_description/urdf/ur10_joint_limited_robot.urdf": [
-          (145, "'wrist_1_link'"),
-          (170, "'wrist_2_link'"),
-          (195, "'wrist_3_link'")],
-      f"{ERD}ur_description/urdf/ur3_robot.urdf": [
+          (195, "'wrist_3_link'")]),
+      **in_each((f"{ERD}ur_description/urdf/ur3_robot.urdf",
+                 f"{ERD}ur_description/urdf/ur3_joint_limited_robot.urdf"), [
           (144, "'wrist_1_link'"),
           (169, "'wrist_2_link'"),
-          (194, "'wrist_3_link'")],
-      f"{ERD}ur_description/urdf/ur3_joint_limited_robot.urdf": [
-          (144, "'wrist_1_link'"),
-          (169, "'wrist_2_link'"),
-          (194, "'wrist_3_link'")],
+          (194, "'wrist_3_link'")]),
       f"{ERD}ur_description/urdf/ur3_gripper.urdf": [
           (158, "'wrist_1_link'"),
           (183, "'wrist_2_link'"),
           (208, "'wrist_3_link'")],
-      f"{ERD}ur_description/urdf/ur5_robot.urdf": [
+      **in_each((f"{ERD}ur_description/urdf/ur5_robot.urdf",
+                 f"{ERD}ur_description/urdf/ur5_joint_limited_robot.urdf"), [
           (154, "'wrist_1_link'"),
           (179, "'wrist_2_link'"),
-          (204, "'wrist_3_link'")],
-      f"{ERD}ur_description/urdf/ur5_joint_limited_robot.urdf": [
-          (154, "'wrist_1_link'"),
-          (179, "'wrist_2_link'"),
-          (204, "'wrist_3_link'")],
+          (204, "'wrist_3_link'")]),
       f"{ERD}ur_description/urdf/ur5_gripper.urdf": [
           (178, "'wrist_1_link'"),
           (203, "'wrist_2_link'"),
@@ -1209,23 +1170,22 @@ INERTIA_KNOWN_DEFECTS: list[Entry] = [
     (EXCEEDS,
      ("wrist_3_link: its inertia, about a COM placed outside the mesh, still exceeds what the "
       "mass can have (1.2x-2x)"),
-     {f"{ERD}ur_description/urdf/ur10_robot.urdf": [(196, "'wrist_3_link'")],
-      f"{ERD}ur_description/urdf/ur10_joint_limited_robot.urdf": [(196, "'wrist_3_link'")],
-      f"{ERD}ur_description/urdf/ur3_robot.urdf": [(195, "'wrist_3_link'")],
-      f"{ERD}ur_description/urdf/ur3_joint_limited_robot.urdf": [(195, "'wrist_3_link'")],
+     {**in_each((f"{ERD}ur_description/urdf/ur10_robot.urdf",
+                 f"{ERD}ur_description/urdf/ur10_joint_limited_robot.urdf"), [
+          (196, "'wrist_3_link'")]),
+      **in_each((f"{ERD}ur_description/urdf/ur3_robot.urdf",
+                 f"{ERD}ur_description/urdf/ur3_joint_limited_robot.urdf"), [
+          (195, "'wrist_3_link'")]),
       f"{ERD}ur_description/urdf/ur3_gripper.urdf": [(209, "'wrist_3_link'")]}),
     (EXCEEDS,
      ("wrist_1/2/3 inertias (0.11, 0.22, 0.017 kg·m² on 1.2 and 0.19 kg) are 22x–49x what the "
       "mass can have within the wrist meshes: the old ur_description cylinder formula with a "
       "radius ten times too large"),
-     {f"{ERD}ur_description/urdf/ur5_robot.urdf": [
+     {**in_each((f"{ERD}ur_description/urdf/ur5_robot.urdf",
+                 f"{ERD}ur_description/urdf/ur5_joint_limited_robot.urdf"), [
           (155, "'wrist_1_link'"),
           (180, "'wrist_2_link'"),
-          (205, "'wrist_3_link'")],
-      f"{ERD}ur_description/urdf/ur5_joint_limited_robot.urdf": [
-          (155, "'wrist_1_link'"),
-          (180, "'wrist_2_link'"),
-          (205, "'wrist_3_link'")],
+          (205, "'wrist_3_link'")]),
       f"{ERD}ur_description/urdf/ur5_gripper.urdf": [
           (179, "'wrist_1_link'"),
           (204, "'wrist_2_link'"),

@@ -8,6 +8,9 @@ that share a reason share one entry, the reason written once:
 
     (rule, reason, {file: [(line, fragment), ...], ...})
 
+with ``**in_each((file, file, ...), [(line, fragment), ...])`` for copies of one file whose
+findings stand on the same lines.
+
 ``(line, fragment, n)`` names n identical findings on one line (legitimate only when the file
 really repeats the defect there; the corpus has none today). A finding without a line is named
 with line ``None``: it matches only findings without a line (none in the corpus today).
@@ -33,6 +36,11 @@ class Waiver(NamedTuple):
     fragment: str
     count: int  # how many identical findings it names (1 but for a repeated defect)
     reason: str
+
+
+def in_each(names: tuple[str, ...], instances: list[Instance]) -> dict[str, list[Instance]]:
+    """The same waivers for each of several files (copies with the defect on the same lines)."""
+    return {name: list(instances) for name in names}
 
 
 def by_file(entries: list[Entry]) -> dict[str, list[Waiver]]:
