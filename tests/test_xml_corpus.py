@@ -21,12 +21,14 @@ from urdftool.source import read_text
 from urdftool.textscan import declared_utf8
 from urdftool.xmlrepair import repair
 
-# Files of the corpora that are genuinely not well-formed XML, and why. Every robot tool accepts
-# them, so urdftool warns (never an error): the rest of each file is checked.
+# Files of the corpora that are genuinely not well-formed XML: each problem (rule, line), and
+# why. Every robot tool accepts them, so urdftool warns (never an error): the rest of each file
+# is checked.
 DIRTY = {
-    "biped/biped2d_pybullet.urdf": "three blank lines before <?xml ...?> (xml.declaration)",
-    "differential/diff_ring.urdf": "a blank line before <?xml ...?> (xml.declaration)",
-    "humanoid/humanoid.urdf": "a NUL byte after </robot> (xml.bad-character)",
+    "biped/biped2d_pybullet.urdf": ([("xml.declaration", 4)],
+                                    "three blank lines before <?xml ...?>"),
+    "differential/diff_ring.urdf": ([("xml.declaration", 2)], "a blank line before <?xml ...?>"),
+    "humanoid/humanoid.urdf": ([("xml.bad-character", 288)], "a NUL byte after </robot>"),
 }
 
 
@@ -44,7 +46,7 @@ def corpus():
 
 
 def test_corpus_has_no_xml_errors_and_warnings_only_where_named(corpus):
-    version_zero = []
+    version_zero, dirty = [], []
     for path, text in corpus:
         fixed, problems = repair(text, str(path))
         assert fixed.count("\n") == text.count("\n")
@@ -58,9 +60,14 @@ def test_corpus_has_no_xml_errors_and_warnings_only_where_named(corpus):
             version_zero.append(path)
             assert [r for r, _ in problems] == ["xml.declaration"]
             assert fixed.splitlines()[1:] == text.splitlines()[1:]  # only line 1 touched
-        elif problems:
+        elif problems or _name(path) in DIRTY:
             assert _name(path) in DIRTY, (path, problems)
+            dirty.append(_name(path))
+            # each problem named by its line: one more in a dirty file fails, and so does one gone
+            assert [(rule, finding.loc.line) for rule, finding in problems] == \
+                DIRTY[_name(path)][0], (path, problems)
     assert len(version_zero) == 26, [p.name for p in version_zero]
+    assert sorted(dirty) == sorted(DIRTY)
 
 
 def test_version_zero_files_check_with_a_warning_only():
