@@ -319,21 +319,41 @@ def test_binary_stl_is_read_as_trimesh_reads_it(tmp_path):
         assert meshes._binary_stl(tmp_path / name) is None, name
 
 
-def test_distinct_points_keep_first_occurrences_in_order():
+def test_distinct_points_keep_first_occurrences_in_order(monkeypatch):
     rng = np.random.default_rng(3)
     base = rng.normal(size=(50, 3))
     vertices = np.vstack([base, base[::-1], base[:7], [[0.0, 0.0, 0.0], [-0.0, 0.0, 0.0]]])
     points, index = meshes._distinct(vertices)
     assert np.array_equal(points[index], vertices)  # bitwise: -0.0 stays -0.0
     assert np.array_equal(points[:50], base) and len(points) == 52
-    # two rows whose hashes collide: every row is kept, never two different points merged
-    p1, p2 = 0x9E3779B97F4A7C15, 0xC2B2AE3D27D4EB4F  # the multipliers of x and y
-    x = 0x3FF0000000000001
-    y = x * p1 * pow(p2, -1, 1 << 64) % (1 << 64)  # y * p2 == x * p1 (mod 2**64)
-    colliding = np.array([[x, 0, 0], [0, y, 0]], dtype=np.uint64).view(float)
-    points, index = meshes._distinct(colliding)
-    assert len(points) == 2 and np.array_equal(points[index].view(np.uint64),
-                                               colliding.view(np.uint64))
+    # rows whose hashes collide (every hash made equal): every distinct row is still kept
+    # apart, in order of first occurrence, never two different points merged
+    monkeypatch.setattr(meshes, "_row_keys", lambda rows: np.zeros(len(rows), np.uint64))
+    points, index = meshes._distinct(vertices)
+    assert np.array_equal(points[index].view(np.uint64), vertices.view(np.uint64))
+    assert np.array_equal(points[:50], base) and len(points) == 52
+
+
+@pytest.mark.parametrize("collide", [False, True])
+def test_merged_vertices_are_grouped_by_position_to_eight_decimals(collide, monkeypatch):
+    """Vertices equal after rounding to 1e-8 are one vertex (trimesh's ``merge_vertices``),
+    against a dictionary of the rounded rows built here; groups numbered in order of first
+    occurrence, each represented by its last member; also when every hash collides."""
+    if collide:
+        monkeypatch.setattr(meshes, "_row_keys", lambda rows: np.full(len(rows), 7, np.uint64))
+    rng = np.random.default_rng(5)
+    base = rng.normal(size=(300, 3))
+    near = base[rng.integers(0, 300, 400)] + rng.uniform(-4e-9, 4e-9, size=(400, 3))
+    vertices = np.vstack([base, near, -base[:20], base[:5] * [1, 1, -1]])
+    vertices = vertices[rng.permutation(len(vertices))]
+    points, index = meshes._merged(vertices)
+    groups: dict = {}
+    for i, row in enumerate(np.round(vertices * 1e8).astype(np.int64)):
+        groups.setdefault(tuple(row), []).append(i)
+    assert len(points) == len(groups)
+    for number, members in enumerate(groups.values()):  # dicts keep first-occurrence order
+        assert (index[members] == number).all()
+        assert np.array_equal(points[number], vertices[members[-1]])
 
 
 @pytest.mark.parametrize("suffix", [".stl", ".obj", ".dae"])

@@ -977,44 +977,81 @@ def _solid(triangles, inside_out: bool = False) -> Solid | None:
 
 def _distinct(vertices):
     """(the distinct rows of ``vertices`` in order of first occurrence, each row's index among
-    them), by bitwise equality: a hash of the coordinates' bits, sorted, then checked (a
-    collision keeps every row). An STL repeats each corner ~6 times: qhull then takes half the
-    time, and the hull is the same point set (support values agree to 1e-16 on the corpus;
-    only the order of the points, and so of qhull's work, changes)."""
+    them), by bitwise equality (-0.0 and 0.0 apart). An STL repeats each corner ~6 times: qhull
+    then takes half the time, and the hull is the same point set (support values agree to 1e-16
+    on the corpus; only the order of the points, and so of qhull's work, changes)."""
     import numpy as np
 
-    bits = np.ascontiguousarray(vertices).view(np.uint64)
-    key = (bits[:, 0] * np.uint64(0x9E3779B97F4A7C15)) ^ \
-        (bits[:, 1] * np.uint64(0xC2B2AE3D27D4EB4F)) ^ (bits[:, 2] * np.uint64(0x165667B19E3779F9))
-    _, first, group = np.unique(key, return_index=True, return_inverse=True)
-    if not np.array_equal(bits[first[group]], bits):
-        return vertices, np.arange(len(vertices))
-    order = np.argsort(first)
-    rank = np.empty_like(order)
-    rank[order] = np.arange(len(order))
-    return vertices[first[order]], rank[group.ravel()]
+    rows = np.ascontiguousarray(vertices, dtype=np.float64).view(np.int64)
+    member, group = _grouped(rows, last=False)
+    return vertices[member], group
 
 
 def _merged(vertices):
-    """(one vertex of each group of vertices equal to 8 decimals; each vertex's group):
-    trimesh's ``merge_vertices`` by position (``tol.merge``; it keeps the first of a group,
-    here one within 1e-8 of it), with one unstable sort of one hashed key per vertex (checked:
-    a collision sorts the rows)."""
+    """(one vertex of each group of vertices equal to 8 decimals, in order of the groups' first
+    occurrence; each vertex's group): trimesh's ``merge_vertices`` by position (``tol.merge``;
+    it keeps the first of a group, here the last, within 1e-8 of it)."""
     import numpy as np
 
     if not np.isfinite(vertices).all() or np.abs(vertices).max() > 1e10:
         return _distinct(vertices)  # rounding would overflow: bitwise equality then
-    rounded = np.round(vertices * 1e8).astype(np.int64)
-    keys, group = np.unique(_row_keys(rounded), return_inverse=True)
-    group = group.ravel()
-    member = np.empty(len(keys), dtype=np.int64)
-    member[group] = np.arange(len(group))  # one vertex of each group (the last)
-    if not np.array_equal(rounded[member[group]], rounded):  # a hash collision: rows then
-        _, group = np.unique(rounded, axis=0, return_inverse=True)
-        group = group.ravel()
-        member = np.empty(int(group.max()) + 1, dtype=np.int64)
-        member[group] = np.arange(len(group))
+    member, group = _grouped(np.round(vertices * 1e8).astype(np.int64), last=True)
     return vertices[member], group
+
+
+def _grouped(rows, last: bool):
+    """(one row index per group of equal rows of ``rows`` (n x 3 int64): the first or the
+    ``last`` of its group; each row's group), the groups numbered in order of first occurrence.
+
+    One sort of n 64-bit words, each a row's hash in its high bits and the row's index in its
+    low bits (numpy's vectorised sort of plain integers: a few times faster than the argsort
+    ``np.unique`` makes for its inverse); rows of one group are then adjacent and in index
+    order. Equal hashes of different rows are found by comparing the rows (then ``np.unique``
+    over the rows, exactly)."""
+    import numpy as np
+
+    count = len(rows)
+    bits = max(1, (count - 1).bit_length())
+    if count == 0 or bits > 31:
+        return _grouped_exactly(rows, last)
+    low = np.uint64((1 << bits) - 1)
+    words = np.sort((_row_keys(rows) & ~low) | np.arange(count, dtype=np.uint64))
+    order = (words & low).astype(np.intp)  # row indices, group after group
+    starts = np.empty(count, dtype=bool)  # where a group starts in ``order``
+    starts[0] = True
+    np.not_equal(words[1:] & ~low, words[:-1] & ~low, out=starts[1:])
+    rank = np.cumsum(starts) - 1  # the group of each position of ``order`` (in hash order)
+    begin = np.flatnonzero(starts)
+    first = order[begin]
+    if not np.array_equal(rows[order], rows[first[rank]]):  # two rows' hashes collide
+        return _grouped_exactly(rows, last)
+    # number the groups by first occurrence: one more sort, of (first index, group) words
+    groups = len(first)
+    by_first = (np.sort((first.astype(np.uint64) << np.uint64(bits)) |
+                        np.arange(groups, dtype=np.uint64)) & low).astype(np.intp)
+    renumber = np.empty(groups, dtype=np.intp)
+    renumber[by_first] = np.arange(groups)
+    group = np.empty(count, dtype=np.intp)
+    group[order] = renumber[rank]
+    chosen = order[np.append(begin[1:], count) - 1] if last else first
+    return chosen[by_first], group
+
+
+def _grouped_exactly(rows, last: bool):
+    """``_grouped`` by ``np.unique`` over the rows (no hash)."""
+    import numpy as np
+
+    _, first, group = np.unique(rows, axis=0, return_index=True, return_inverse=True)
+    group = group.ravel()
+    by_first = np.argsort(first, kind="stable")
+    renumber = np.empty(len(first), dtype=np.intp)
+    renumber[by_first] = np.arange(len(first))
+    if last:
+        chosen = np.empty(len(first), dtype=np.intp)
+        chosen[group] = np.arange(len(group))  # the last assignment of each group stays
+    else:
+        chosen = first
+    return chosen[by_first], renumber[group]
 
 
 def _closed(faces) -> bool:
@@ -1045,13 +1082,22 @@ def _closed(faces) -> bool:
 
 
 def _row_keys(rows):
-    """One uint64 per row of three int64 (a hash of the rows' bits; collisions are checked by
-    the caller)."""
+    """One uint64 per row of three 64-bit integers: a multiply-xorshift hash of the rows'
+    bits (collisions are checked by the caller; an earlier XOR of three products made
+    (-a, -b, 0) and (a, b, 0) collide, which sent a third of real meshes to the slow path)."""
     import numpy as np
 
     bits = np.ascontiguousarray(rows).view(np.uint64)
-    return (bits[:, 0] * np.uint64(0x9E3779B97F4A7C15)) ^ \
-        (bits[:, 1] * np.uint64(0xC2B2AE3D27D4EB4F)) ^ (bits[:, 2] * np.uint64(0x165667B19E3779F9))
+    shift = np.uint64(31)
+    key = bits[:, 0] * np.uint64(0x9E3779B97F4A7C15)
+    key ^= key >> shift
+    key += bits[:, 1]
+    key *= np.uint64(0xC2B2AE3D27D4EB4F)
+    key ^= key >> shift
+    key += bits[:, 2]
+    key *= np.uint64(0x165667B19E3779F9)
+    key ^= key >> shift
+    return key
 
 
 def _hull(vertices):
