@@ -787,6 +787,27 @@ def test_fast_collada_reader_leaves_what_it_does_not_read_to_pycollada(tmp_path)
     assert meshes._collada_triangles(b"<COLLADA><unclosed></COLLADA>") is None
 
 
+def test_fast_collada_reader_says_no_triangles_as_pycollada_does(tmp_path, monkeypatch):
+    """A scene whose nodes place no triangles (PR2's convex/*.dae: a node without geometry, the
+    mesh in a <convex_mesh> only physics uses; a node placing only <lines>): no triangles, as
+    trimesh through pycollada finds, said without asking pycollada (its reading is refused
+    here: the fast reader must not need it)."""
+    lines = _DAE.format(count=6, n=2, positions="0 0 0 1 1 1", primitives=(
+        '<lines count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1</p></lines>'))
+    no_node = _cube_dae("triangles").replace('<instance_geometry url="#g"/></node>\n<node id="b">',
+                                             '</node>\n<node id="b">')
+    no_node = no_node.replace('<instance_node url="#shared"/>', "")
+    assert "instance_geometry" not in no_node.split("<library_visual_scenes>")[1]
+    for name, text in (("lines.dae", lines), ("empty.dae", no_node)):
+        path = tmp_path / name
+        path.write_text(text)
+        theirs = trimesh.load(str(path), process=False)
+        assert len(getattr(theirs, "faces", [])) == 0 and not getattr(theirs, "geometry", {})
+        monkeypatch.setattr(meshes, "_trimesh_load", lambda *a: pytest.fail("pycollada asked"))
+        assert meshes._load(path, need_volume=True).error == "no triangles in it", name
+        monkeypatch.undo()
+
+
 def test_fast_path_summaries_match_trimesh_on_the_corpus(monkeypatch):
     """issue 33: the summaries of real COLLADA and STL meshes (pybullet_data, example-robot-
     data; more with $URDFTOOL_MESH_CORPUS, a folder of real packages' meshes) against trimesh's
@@ -806,9 +827,14 @@ def test_fast_path_summaries_match_trimesh_on_the_corpus(monkeypatch):
         paths += sorted(p for p in Path(extra).rglob("*") if p.suffix.lower() in (".dae", ".stl"))
     rng = np.random.default_rng(3)
     directions = rng.normal(size=(32, 3))
-    compared = 0
+    compared = empty = 0
     for path in paths:
         info = meshes._load(path, need_volume=True)
+        if info.error == "no triangles in it":  # said without pycollada: ask it
+            theirs = trimesh.load(str(path), process=False)
+            assert len(getattr(theirs, "faces", [])) == 0 and not getattr(theirs, "geometry", {})
+            empty += 1
+            continue
         if not info.ok or path.stat().st_size > meshes.IN_PROCESS_BYTES:
             continue
         theirs = trimesh.load(str(path), force="mesh", process=False)
@@ -831,6 +857,7 @@ def test_fast_path_summaries_match_trimesh_on_the_corpus(monkeypatch):
                                    rtol=1e-6, atol=1e-6 * np.abs(inertia).max())
         compared += 1
     assert compared >= 10, compared
+    print(f"{compared} summaries and {empty} 'no triangles' compared with trimesh's")
 
 
 def test_meshes_of_another_machine_are_not_a_package_that_ships_none(tmp_path):
@@ -843,3 +870,25 @@ def test_meshes_of_another_machine_are_not_a_package_that_ships_none(tmp_path):
     found = _not_found(package)
     assert len(found) == 2, found
     assert not any("package's meshes" in d["message"] for d in found)
+
+
+def test_closed_surface_verdict_is_trimeshs():
+    """``_closed`` (one sort of direction-tagged edge keys; two when a face is degenerate)
+    against trimesh's ``is_watertight and is_winding_consistent`` on the same triangles: a
+    sphere, one face flipped, one face gone, two spheres, a degenerate face added twice."""
+    sphere = trimesh.creation.icosphere(subdivisions=2)
+    faces = np.asarray(sphere.faces)
+    flipped = faces.copy()
+    flipped[5] = flipped[5][::-1]
+    two = np.vstack([faces, faces + len(sphere.vertices)])
+    degenerate = np.vstack([faces, [[0, 0, 1], [0, 1, 0]]])
+    cases = {"sphere": faces, "flipped": flipped, "holed": faces[1:], "two": two,
+             "degenerate": degenerate, "odd": faces[:-3]}
+    verdicts = {}
+    for name, case in cases.items():
+        vertices = np.vstack([sphere.vertices] * 2)
+        theirs = trimesh.Trimesh(vertices, case, process=False)
+        expected = bool(theirs.is_watertight and theirs.is_winding_consistent)
+        assert meshes._closed(case) == expected, name
+        verdicts[name] = expected
+    assert verdicts["sphere"] and verdicts["two"] and not verdicts["flipped"]
