@@ -892,3 +892,26 @@ def test_closed_surface_verdict_is_trimeshs():
         assert meshes._closed(case) == expected, name
         verdicts[name] = expected
     assert verdicts["sphere"] and verdicts["two"] and not verdicts["flipped"]
+
+
+def test_hull_needs_qhull_only_not_all_of_scipy_spatial():
+    """A cold mesh read loads scipy's qhull module alone (``scipy.spatial``'s __init__ costs
+    twice its CPU): in a new process, the hull of a cube's corners and inner points is the
+    8 corners, ``scipy.spatial`` is not imported, and importing it later gives the same
+    ``ConvexHull`` class."""
+    import sys
+
+    code = (
+        "import sys, numpy as np\n"
+        "from urdftool.physics import meshes\n"
+        "points = np.vstack([np.indices((2, 2, 2)).reshape(3, -1).T,"
+        " np.random.default_rng(0).uniform(0.1, 0.9, (50, 3))]).astype(float)\n"
+        "hull, triangles = meshes._hull(points)\n"
+        "assert sorted(map(tuple, hull)) == sorted(map(tuple, points[:8])), hull\n"
+        "assert len(triangles) == 12\n"
+        "assert 'scipy.spatial' not in sys.modules\n"
+        "import scipy.spatial\n"
+        "assert meshes._qhull().ConvexHull is scipy.spatial.ConvexHull\n")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            check=False, cwd=Path(__file__).resolve().parent.parent)
+    assert result.returncode == 0, result.stderr

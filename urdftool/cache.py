@@ -130,9 +130,10 @@ def _same_content(entry: dict, key: dict) -> bool:
     return _digest(key["path"]) == entry["sha256"]
 
 
-def write(kind: str, key: dict, header: dict, values) -> None:
+def write(kind: str, key: dict, header: dict, values, content: bytes | None = None) -> None:
     """Store ``header`` (JSON-able) and ``values`` (floats: a flat sequence, or a numpy array of
-    any shape) for ``key``; any failure is silently ignored."""
+    any shape) for ``key``; any failure is silently ignored. ``content``: the file's bytes the
+    entry was derived from, when the caller has them (hashed instead of reading the file)."""
     if not WRITABLE:
         return
     try:
@@ -146,7 +147,13 @@ def write(kind: str, key: dict, header: dict, values) -> None:
             if sys.byteorder == "big":
                 floats.byteswap()
             count, data = len(floats), floats.tobytes()
-        text = json.dumps({"key": key, "sha256": _digest(key["path"]), "data": header,
+        if content is not None:
+            import hashlib
+
+            digest = hashlib.sha256(content).hexdigest()
+        else:
+            digest = _digest(key["path"])
+        text = json.dumps({"key": key, "sha256": digest, "data": header,
                            "values": count})
         store(_entry(kind, key), text.encode("utf-8") + b"\n" + data)
     except (ValueError, TypeError, RuntimeError):  # RuntimeError: no home directory

@@ -14,6 +14,7 @@ import math
 import os
 import re
 import sys
+import threading
 import warnings
 from array import array
 from dataclasses import dataclass, field
@@ -266,10 +267,24 @@ def _stored_or_load(path: Path, need_volume: bool) -> MeshInfo:
     stored = _decode(path, cache.read("mesh", key))
     if stored is not None and (stored.has_volume or not need_volume or not stored.ok):
         return stored
+    _READ.bytes = None
     info = _load(path, need_volume)
+    read, _READ.bytes = _READ.bytes, None
     if not (info.error or "").startswith((TRANSIENT, MISSING_LIBRARY)):
-        cache.write("mesh", key, *_encode(info))
+        content = read[1] if read is not None and read[0] == str(path) else None
+        cache.write("mesh", key, *_encode(info), content=content)
     return info
+
+
+# the bytes this thread's reading of a mesh parsed, (path, bytes): the cache entry's SHA-256
+# is theirs (the file is not read again to hash it, nor can a change meanwhile be hashed in)
+_READ = threading.local()
+
+
+def _file_bytes(path: Path) -> bytes:
+    data = path.read_bytes()
+    _READ.bytes = (str(path), data)
+    return data
 
 
 def _encode(info: MeshInfo) -> tuple[dict, object]:
@@ -504,7 +519,7 @@ def _read(path: Path):
         stl = _binary_stl(path)
         if stl is not None:
             return (*stl, None)
-    data = path.read_bytes()
+    data = _file_bytes(path)
     file_type = path.suffix.lower().lstrip(".")
     if file_type == "dae":
         data = _without_lead(data)
@@ -864,7 +879,7 @@ def _binary_stl(path: Path):
     triangles): trimesh then reads or rejects it."""
     import numpy as np
 
-    data = path.read_bytes()
+    data = _file_bytes(path)
     count = int.from_bytes(data[80:84], "little") if len(data) >= 84 else 0
     if count == 0 or len(data) != 84 + 50 * count:
         return None
@@ -1118,15 +1133,51 @@ def _row_keys(rows):
     return key
 
 
+def _qhull():
+    """scipy's qhull module (``ConvexHull``, ``QhullError``), loaded without the rest of
+    ``scipy.spatial`` when that is not imported yet: its ``__init__`` imports the k-d tree,
+    scipy.sparse, distances and rotations (0.49 s of CPU against 0.22 s for ``_qhull`` alone,
+    paid by every process that reads a mesh cold, each sandboxed reader included). The module
+    is scipy's own, registered under its own name, so that a later ``import scipy.spatial``
+    takes it as it is; on any surprise (another scipy layout) ``scipy.spatial`` is imported."""
+    module = sys.modules.get("scipy.spatial._qhull")
+    if module is not None:
+        return module
+    import scipy  # an ImportError here: scipy is missing (mesh.not-checked names it)
+
+    if "scipy.spatial" not in sys.modules:
+        import importlib.machinery
+        import importlib.util
+
+        name = "scipy.spatial._qhull"
+        try:
+            finder = importlib.machinery.FileFinder(
+                os.path.join(os.path.dirname(scipy.__file__), "spatial"),
+                (importlib.machinery.ExtensionFileLoader, importlib.machinery.EXTENSION_SUFFIXES))
+            spec = finder.find_spec(name)
+            module = importlib.util.module_from_spec(spec)
+            sys.modules[name] = module
+            spec.loader.exec_module(module)
+        except Exception:  # noqa: BLE001 - any other layout: the package's own import below
+            module = None
+        if module is not None and hasattr(module, "ConvexHull") and \
+                hasattr(module, "QhullError"):
+            return module
+        sys.modules.pop(name, None)
+    import scipy.spatial
+
+    return scipy.spatial
+
+
 def _hull(vertices):
     """(hull vertices, oriented hull triangles) by qhull; (unique vertices, None) when the
     points span no volume (a flat or degenerate mesh)."""
     import numpy as np
-    from scipy.spatial import ConvexHull, QhullError
 
+    qhull = _qhull()
     try:
-        hull = ConvexHull(vertices)
-    except (QhullError, ValueError):
+        hull = qhull.ConvexHull(vertices)
+    except (qhull.QhullError, ValueError):
         return np.unique(vertices, axis=0), None
     triangles = vertices[hull.simplices]
     normals = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
