@@ -1020,7 +1020,7 @@ def _merged(vertices):
     it keeps the first of a group, here the last, within 1e-8 of it)."""
     import numpy as np
 
-    if not np.isfinite(vertices).all() or np.abs(vertices).max() > 1e10:
+    if not np.isfinite(vertices).all() or max(vertices.max(), -vertices.min()) > 1e10:
         return _distinct(vertices)  # rounding would overflow: bitwise equality then
     member, group = _grouped(np.round(vertices * 1e8).astype(np.int64), last=True)
     return vertices[member], group
@@ -1183,7 +1183,11 @@ def _hull(vertices):
     normals = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
     flip = np.einsum("ij,ij->i", normals, hull.equations[:, :3]) < 0
     triangles[flip] = triangles[flip][:, ::-1]
-    return vertices[hull.vertices], triangles
+    # the vertices of its triangles in input order: scipy's ``hull.vertices`` (np.unique of
+    # the triangles, a hash table and a sort) as a mask
+    used = np.zeros(len(vertices), dtype=bool)
+    used[hull.simplices] = True
+    return vertices[used], triangles
 
 
 def _summarise(path: Path, vertices, faces, mesh, need_volume: bool) -> MeshInfo:
@@ -1194,8 +1198,10 @@ def _summarise(path: Path, vertices, faces, mesh, need_volume: bool) -> MeshInfo
     unit = _collada_unit(path)
     vertices = np.asarray(vertices, dtype=float) * unit
     faces = np.asarray(faces)
-    lower = tuple(float(x) for x in vertices.min(axis=0))
-    upper = tuple(float(x) for x in vertices.max(axis=0))
+    # column by column: numpy's min(axis=0) of an n x 3 array is 4x slower than three
+    columns = [vertices[:, k] for k in range(3)]
+    lower = tuple(float(c.min()) for c in columns)
+    upper = tuple(float(c.max()) for c in columns)
     # a hull needs distinct points; the volume, vertices merged as trimesh merges them (the
     # hull of their first points is the same to 1e-8 m)
     merge = need_volume and mesh is None
