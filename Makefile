@@ -9,7 +9,13 @@ MAIN_STAMP := $(VENV)/.installed-main
 TEST_STAMP := $(VENV)/.installed
 # `make test`: the suite that runs in minutes; `make test-slow`: the tests marked `slow` (scale,
 # attack and oracle suites; CI runs both: .ci/run)
-PYTEST := $(BIN)/python -m pytest -q -n 2
+# Bytecode: the tests start urdftool in thousands of processes (the CLI, the sandboxed reader, the
+# language server). Where PYTHONDONTWRITEBYTECODE is set (CI images often set it) each would compile
+# urdftool's modules anew (about 0.2 s a process) and every pytest worker would rewrite the asserts
+# of every test module: the suite compiles urdftool once and lets pytest keep its rewritten modules.
+# --dist worksteal: a worker that runs out of tests takes some of the other's (long tests at the end).
+PYTEST := env -u PYTHONDONTWRITEBYTECODE $(BIN)/python -m pytest -q -n 2 --dist worksteal
+COMPILE := $(BIN)/python -m compileall -q urdftool
 
 .PHONY: check test test-slow test-all fuzz bench lint clean
 
@@ -35,13 +41,16 @@ check: $(MAIN_STAMP)
 	@$(BIN)/urdftool check --strict robots/*/corrected
 
 test: $(TEST_STAMP)
+	$(COMPILE)
 	$(PYTEST) -m "not slow"
 
 # exit 5 (no test collected) fails: an empty slow set means the marker was lost
 test-slow: $(TEST_STAMP)
+	$(COMPILE)
 	$(PYTEST) -m slow
 
 test-all: $(TEST_STAMP)
+	$(COMPILE)
 	$(PYTEST)
 
 fuzz: $(TEST_STAMP)

@@ -297,6 +297,7 @@ def test_file_names_never_become_options(repo, mode):
     assert len(results) == len(checked)
 
 
+@pytest.mark.slow  # diff of both revisions with pictures (~6 s of CPU, 14 s of wall): CI
 def test_diff_summary_on_a_pull_request(repo):
     """`diff-summary`: the pull request's effect on each robot in the job summary (markdown,
     from the merge base), pictures as an artifact, and the check's verdict as before."""

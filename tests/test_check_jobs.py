@@ -31,7 +31,10 @@ def many(tmp_path):
     return root
 
 
-@pytest.mark.parametrize("fmt", ["json", "text", "sarif"])
+# the workers' reports are merged before any format prints them: json in make test, the others
+# in CI (slow; ~3 s)
+@pytest.mark.parametrize("fmt", ["json", pytest.param("text", marks=pytest.mark.slow),
+                                 pytest.param("sarif", marks=pytest.mark.slow)])
 def test_jobs_give_the_report_of_one_process(many, fmt):
     one = run_urdftool("check", "--format", fmt, "--jobs", "1", many)
     two = run_urdftool("check", "--format", fmt, "--jobs", "2", many)

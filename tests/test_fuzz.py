@@ -67,7 +67,7 @@ def test_every_mutation_changes_text_and_stays_text(mutation):
 def test_untrusted_xacro_mutants_never_crash(workspace):
     xacros = [p for p in SEEDS if p.name.endswith(".xacro")]
     rng = random.Random(8)
-    for number in range(12):
+    for number in range(6):  # each command twice, sandboxed (~1 s a case); CI runs 120 above
         seed = xacros[number % len(xacros)]
         text, _ = fuzz.mutate(TEXTS[seed], rng)
         path = workspace.write(seed, text)

@@ -45,8 +45,9 @@ def _compare(chain, result, samples=20, tol=1e-9):
     (DUAL_ARM, "link_eeleft", "auto"),
     (DUAL_ARM, "link_003", "full"),
     (MIMIC, "l4", "none"),  # simplified through the CLI in test_numpy_code_runs_and_agrees
-    (PRISMATIC_FIXED, None, "auto"),
-    (TILTED, None, "auto"),
+    # ~6 s of sympy: CI (slow); make test derives TILTED through the CLI below
+    pytest.param(PRISMATIC_FIXED, None, "auto", marks=pytest.mark.slow),
+    pytest.param(TILTED, None, "auto", marks=pytest.mark.slow),
 ])
 def test_symbolic_equals_numeric(write, source, tip, simplify):
     path = write(source) if isinstance(source, str) else source
@@ -68,6 +69,7 @@ def test_symbolic_ur5_simplified():
                for arg in f.args)
 
 
+@pytest.mark.slow  # ~2 s of sympy: CI
 def test_symbolic_7dof_is_left_unsimplified_but_exact():
     chain = extract_chain(load_robot(str(ERD / "panda_description/urdf/panda.urdf")), None,
                           "panda_hand")
