@@ -143,7 +143,10 @@ def test_a_change_does_not_wait_for_the_pause_of_the_checks_put_off(tmp_path, mo
         server.buffer = texts.get
         server.publish = lambda roots: published.set()
         server.schedule(str(tmp_path / "macros.xacro"))  # nothing new: only the pending
-        await asyncio.sleep(0.2)  # the server now waits for a pause
+        # its check is published, and the server goes on to wait for a pause before this task
+        # runs again (no await between the two); a fixed sleep let a slow first check publish
+        # after the clear below, which ended the wait before the change was checked
+        await asyncio.wait_for(published.wait(), 30)
         assert engine.pending() and not server.task.done()
         published.clear()
         start = time.monotonic()
