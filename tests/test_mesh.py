@@ -911,7 +911,8 @@ def test_hull_needs_qhull_only_not_all_of_scipy_spatial():
         "assert len(triangles) == 12\n"
         "assert 'scipy.spatial' not in sys.modules\n"
         "import scipy.spatial\n"
-        "assert meshes._qhull().ConvexHull is scipy.spatial.ConvexHull\n")
+        "assert meshes._qhull().ConvexHull is scipy.spatial.ConvexHull\n"
+        "assert scipy.spatial._qhull is meshes._qhull()\n")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                             check=False, cwd=Path(__file__).resolve().parent.parent)
     assert result.returncode == 0, result.stderr

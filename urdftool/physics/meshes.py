@@ -1142,6 +1142,9 @@ def _qhull():
     takes it as it is; on any surprise (another scipy layout) ``scipy.spatial`` is imported."""
     module = sys.modules.get("scipy.spatial._qhull")
     if module is not None:
+        package = sys.modules.get("scipy.spatial")
+        if package is not None and not hasattr(package, "_qhull"):  # imported after it
+            package._qhull = module
         return module
     import scipy  # an ImportError here: scipy is missing (mesh.not-checked names it)
 
