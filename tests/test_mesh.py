@@ -895,10 +895,10 @@ def test_closed_surface_verdict_is_trimeshs():
 
 
 def test_hull_needs_qhull_only_not_all_of_scipy_spatial():
-    """A cold mesh read loads scipy's qhull module alone (``scipy.spatial``'s __init__ costs
-    twice its CPU): in a new process, the hull of a cube's corners and inner points is the
-    8 corners, ``scipy.spatial`` is not imported, and importing it later gives the same
-    ``ConvexHull`` class."""
+    """A cold mesh read loads scipy's qhull and LAPACK extension modules alone (the
+    ``__init__`` of ``scipy.spatial`` and ``scipy.linalg`` cost 25 times their CPU): in a new
+    process, the hull of a cube's corners and inner points is the 8 corners, neither package
+    is imported, and importing them later gives the same modules, which work."""
     import sys
 
     code = (
@@ -909,10 +909,13 @@ def test_hull_needs_qhull_only_not_all_of_scipy_spatial():
         "hull, triangles = meshes._hull(points)\n"
         "assert sorted(map(tuple, hull)) == sorted(map(tuple, points[:8])), hull\n"
         "assert len(triangles) == 12\n"
-        "assert 'scipy.spatial' not in sys.modules\n"
-        "import scipy.spatial\n"
+        "assert 'scipy.spatial' not in sys.modules and 'scipy.linalg' not in sys.modules\n"
+        "import scipy.linalg, scipy.spatial\n"
         "assert meshes._qhull().ConvexHull is scipy.spatial.ConvexHull\n"
-        "assert scipy.spatial._qhull is meshes._qhull()\n")
+        "assert scipy.spatial._qhull is meshes._qhull()\n"
+        "assert scipy.linalg.cython_lapack is sys.modules['scipy.linalg.cython_lapack']\n"
+        "assert scipy.spatial.Delaunay(points).simplices.shape[1] == 4\n"
+        "assert abs(scipy.linalg.det(np.diag([2.0, 3.0])) - 6) < 1e-12\n")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                             check=False, cwd=Path(__file__).resolve().parent.parent)
     assert result.returncode == 0, result.stderr
