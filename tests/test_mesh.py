@@ -919,3 +919,17 @@ def test_hull_needs_qhull_only_not_all_of_scipy_spatial():
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                             check=False, cwd=Path(__file__).resolve().parent.parent)
     assert result.returncode == 0, result.stderr
+
+
+def test_sandboxed_readers_hull_text_carries_every_bit():
+    """The sandboxed reader's answer carries a hull as base64 of float64 bytes: every value
+    comes back bit for bit (-0.0, nan, inf, subnormals), and a text that is not such a text
+    is refused (None), never half read."""
+    values = np.array([0.1, -0.0, np.nan, np.inf, -np.inf, 5e-324, 1.7976931348623157e308,
+                       -123.456], dtype=np.float64)
+    back = meshes.hull_values(meshes.hull_text(values))
+    assert np.array_equal(np.frombuffer(back, dtype=np.float64).view(np.uint64),
+                          values.view(np.uint64))
+    assert len(meshes.hull_values(meshes.hull_text([]))) == 0
+    for bad in ("not base64!", "AAAA", 3.5, None, ["0.1"]):  # "AAAA": 3 bytes, no float
+        assert meshes.hull_values(bad) is None, bad

@@ -413,9 +413,8 @@ def parse_mesh(path: Path, need_volume: bool):
             child.close()
             answer = _child(roots).ask(request, _RUN.get("timeout", DEFAULT_TIMEOUT), what,
                                        grace=MESH_GRACE_SECONDS)
-        header, hull = answer["header"], answer["hull"]
-        if not isinstance(header, dict) or not isinstance(hull, list) \
-                or not all(type(x) is float for x in hull):
+        header, hull = answer["header"], meshes.hull_values(answer["hull"])
+        if not isinstance(header, dict) or hull is None:
             raise SandboxFailure("malformed mesh summary")
         info = meshes._decode(Path(path), (header, hull))
         if info is None:

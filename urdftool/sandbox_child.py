@@ -369,7 +369,7 @@ def _mesh(request: dict) -> dict:
     from urdftool.physics import meshes
 
     header, hull = meshes._encode(meshes._load(Path(request["path"]), request["need_volume"]))
-    return {"header": header, "hull": [float(x) for x in hull]}
+    return {"header": header, "hull": meshes.hull_text(hull)}
 
 
 def _answer(request) -> dict:

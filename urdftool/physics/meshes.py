@@ -297,6 +297,38 @@ def _encode(info: MeshInfo) -> tuple[dict, object]:
     return header, info.flat
 
 
+def hull_text(values) -> str:
+    """A summary's hull coordinates as text for the sandboxed reader's JSON answer: their
+    little-endian float64 bytes in base64 (a JSON list of 600k floats took 0.57 s to write and
+    read again over 309 COLLADA files, base64 0.12 s)."""
+    import base64
+
+    floats = array("d", values)
+    if sys.byteorder == "big":
+        floats.byteswap()
+    return base64.b64encode(floats.tobytes()).decode("ascii")
+
+
+def hull_values(text) -> array | None:
+    """The coordinates ``hull_text`` wrote, or None when ``text`` is not such a text."""
+    import base64
+    import binascii
+
+    if not isinstance(text, str):
+        return None
+    try:
+        data = base64.b64decode(text, validate=True)
+    except (binascii.Error, ValueError):
+        return None
+    if len(data) % 8:
+        return None
+    floats = array("d")
+    floats.frombytes(data)
+    if sys.byteorder == "big":
+        floats.byteswap()
+    return floats
+
+
 def _floats(value, count: int) -> bool:
     return isinstance(value, list) and len(value) == count and \
         all(type(x) is float for x in value)
