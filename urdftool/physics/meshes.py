@@ -1178,14 +1178,29 @@ def _qhull():
     that reads a mesh cold, each sandboxed reader included. The modules are scipy's own,
     registered under their own names, so that a later ``import scipy.spatial`` or
     ``scipy.linalg`` takes them as they are; on any surprise (another scipy layout)
-    ``scipy.spatial`` is imported."""
+    ``scipy.spatial`` is imported. Loaded once, under a lock (threads of the language server:
+    none may take a module still being loaded)."""
+    global _QHULL
+    if _QHULL is None:
+        with _QHULL_LOCK:
+            if _QHULL is None:
+                _QHULL = _load_qhull()
+    for package, name in _QHULL_MODULES:  # a package imported after its module was alone
+        parent = sys.modules.get(package)
+        if parent is not None and not hasattr(parent, name) and \
+                f"{package}.{name}" in sys.modules:
+            setattr(parent, name, sys.modules[f"{package}.{name}"])
+    return _QHULL
+
+
+_QHULL = None
+_QHULL_LOCK = threading.Lock()
+
+
+def _load_qhull():
+    """``_qhull``'s loading."""
     module = sys.modules.get("scipy.spatial._qhull")
     if module is not None:
-        for package, name in _QHULL_MODULES:  # a package imported after its module
-            parent = sys.modules.get(package)
-            if parent is not None and not hasattr(parent, name) and \
-                    f"{package}.{name}" in sys.modules:
-                setattr(parent, name, sys.modules[f"{package}.{name}"])
         return module
     import scipy  # an ImportError here: scipy is missing (mesh.not-checked names it)
 
