@@ -9,7 +9,12 @@
 2. The summaries alone, in this process: every file summarised with its volume (hull,
    extents, closed or not, mass properties), cold then warm.
 
-Usage: python benchmarks/bench_meshes.py DIR [DIR...] [--suffix .dae] [--profile N]
+3. With ``--packages``: `urdftool check` of the checkouts themselves (each DIR a repository
+   with its URDF/xacro files, then all of them in one run), cold then warm: what the packages'
+   own descriptions cost, the meshes they use read once. (1) is the worst case of a package:
+   every mesh on a link of its own and nothing else to check.
+
+Usage: python benchmarks/bench_meshes.py DIR [DIR...] [--suffix .dae] [--profile N] [--packages]
 
 DIR: real packages' meshes, e.g. the COLLADA files of Universal_Robots_ROS2_Description,
 universal_robot, franka_description, abb, abb_experimental, kinova-ros, moveit_resources,
@@ -73,12 +78,32 @@ def read_all(paths: list[Path]) -> tuple[float, int]:
     return time.process_time() - start, meshes.LOADS
 
 
+def check_packages(directories: list[Path]) -> None:
+    """(3): each checkout's own descriptions, then all of them, cold then warm."""
+    print(f"{'cold s':>8} {'warm s':>8} {'ratio':>7} {'meshes':>7}  checkout")
+    for group in [[d] for d in directories] + ([directories] if len(directories) > 1 else []):
+        with tempfile.TemporaryDirectory(prefix="bench-meshes-") as work:
+            cache = Path(work) / "cache"
+            env = dict(os.environ, URDFTOOL_CACHE_DIR=str(cache))
+            command = [sys.executable, "-m", "urdftool", "check", "--format", "json",
+                       "--timeout", "600", *map(str, group)]
+            cold, _ = child_cpu(command, env)
+            warm, _ = child_cpu(command, env)
+            read = len(list((cache / "mesh").glob("*"))) if (cache / "mesh").is_dir() else 0
+            name = group[0].name if len(group) == 1 else f"all {len(group)}"
+            print(f"{cold:8.2f} {warm:8.2f} {cold / warm:6.2f}x {read:7d}  {name}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("dirs", nargs="+", type=Path)
     parser.add_argument("--suffix", default=".dae")
     parser.add_argument("--profile", type=int, default=0)
+    parser.add_argument("--packages", action="store_true",
+                        help="also check each DIR's own descriptions, cold then warm")
     args = parser.parse_args()
+    if args.packages:
+        check_packages(args.dirs)
     base = Path(os.path.commonpath([d.resolve() for d in args.dirs]))
     paths = files_under(args.dirs, args.suffix.lower())
     size = sum(p.stat().st_size for p in paths)
