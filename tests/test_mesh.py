@@ -787,6 +787,26 @@ def test_fast_collada_reader_leaves_what_it_does_not_read_to_pycollada(tmp_path)
     assert meshes._collada_triangles(b"<COLLADA><unclosed></COLLADA>") is None
 
 
+def test_fast_collada_reader_reads_arrays_over_libxml2s_text_limit(tmp_path, monkeypatch):
+    """A float array written as one text node of more than 10 MB (MeshLab's exports: the Go1
+    trunk of example-robot-data, 28 MB) is read by the fast reader, not handed to pycollada
+    (which it was: libxml2 refuses such a node without its huge-tree option), and its cube
+    has the cube's closed-form volume and inertia."""
+    text = _cube_dae("triangles").replace('<float_array id="pa" count="24">',
+                                          '<float_array id="pa" count="24">' + " " * 11_000_000)
+    from lxml import etree
+
+    with pytest.raises(etree.XMLSyntaxError, match="(?i)huge|too long"):  # the limit at stake
+        etree.fromstring(text.encode(), etree.XMLParser(resolve_entities=False))
+    path = tmp_path / "padded.dae"
+    path.write_text(text)
+    monkeypatch.setattr(meshes, "_trimesh_load", lambda *a: pytest.fail("pycollada asked"))
+    info = meshes._load(path, need_volume=True)
+    # two closed unit cubes, one scaled 2x along x (see _cube_dae): 1 + 2 m³
+    assert info.error is None and info.watertight
+    assert info.solid.volume == pytest.approx(3.0, rel=1e-6)
+
+
 def test_fast_collada_reader_says_no_triangles_as_pycollada_does(tmp_path, monkeypatch):
     """A scene whose nodes place no triangles (PR2's convex/*.dae: a node without geometry, the
     mesh in a <convex_mesh> only physics uses; a node placing only <lines>): no triangles, as

@@ -123,10 +123,16 @@ _KNOWN = ({name for names in _CHILDREN.values() for name in names}
 _NAMESPACES = {"xacro": "http://www.ros.org/wiki/xacro"}
 
 
-def secure_parser(recover: bool = False) -> etree.XMLParser:
-    """The only XML parser urdftool uses: no entities, no network, no DTD, no huge trees."""
+def secure_parser(recover: bool = False, huge_text: bool = False) -> etree.XMLParser:
+    """The only XML parser urdftool uses: no entities, no network, no DTD, no huge trees.
+
+    ``huge_text``: for mesh geometry only (the COLLADA reader), where one text node holds a
+    whole float or index array and exporters write them past libxml2's 10 MB limit (MeshLab:
+    28 MB in example-robot-data's Go1 trunk); pycollada, which such files otherwise went to,
+    parses them with huge trees anyway. Still no entity is resolved (nothing amplifies); the
+    text is the file's, already read whole."""
     return etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False,
-                           huge_tree=False, remove_blank_text=False, recover=recover)
+                           huge_tree=huge_text, remove_blank_text=False, recover=recover)
 
 
 def _xml_bytes(text: str) -> bytes:

@@ -29,8 +29,9 @@ from urdftool.physics.inertia import Extent, Mat3, Solid, Vec3, sub
 LOADABLE = {".stl", ".obj", ".dae", ".ply", ".off", ".glb", ".gltf", ".3mf", ".zae"}
 _UNIT_RE = re.compile(rb"<unit\b[^<>]*\bmeter\s*=\s*[\"']([^\"'<]+)[\"']")
 # How a file's coordinates are read; part of every cache entry's key (``cache.stamp``): bump it
-# when the reading changes (2: a COLLADA <up_axis> is no longer turned, see ``_collada_unit``)
-READING = 2
+# when the reading changes (2: a COLLADA <up_axis> is no longer turned, see ``_collada_unit``;
+# 3: COLLADA arrays over libxml2's 10 MB text limit read by the fast reader, not pycollada)
+READING = 3
 
 LOADS = 0  # how many files were actually read (cache misses)
 # parses a file (path, need_volume) -> MeshInfo instead of this process: set by
@@ -600,7 +601,7 @@ def _collada_triangles(data: bytes):
     from urdftool.xmlrepair import secure_parser
 
     try:
-        root = etree.fromstring(data, secure_parser())
+        root = etree.fromstring(data, secure_parser(huge_text=True))  # arrays over 10 MB
         ids = {}
         for element in root.iterfind(".//*[@id]"):
             ids.setdefault(element.get("id"), element)
