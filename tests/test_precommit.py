@@ -170,6 +170,20 @@ def test_every_hook_passes_file_names_after_a_separator():
         assert hook["entry"].split()[-1] == "--", hook
 
 
+def test_the_readmes_local_hook_is_triggered_by_what_triggers_the_shipped_one():
+    """The README's local hook and the shipped one check the same files: the local one had
+    drifted and left SRDFs out (a commit changing only an SRDF was never checked)."""
+    import re
+
+    import yaml
+
+    shipped = next(h for h in yaml.safe_load((ROOT / ".pre-commit-hooks.yaml").read_text())
+                   if h["id"] == "urdftool")
+    local = yaml.safe_load(_readme_snippet("pre-commit-local"))["repos"][0]["hooks"][0]
+    assert local["files"] == shipped["files"]
+    assert re.search(local["files"], "moveit_config/config/robot.srdf")
+
+
 HOSTILE = ["--write-baseline=x.urdf", "-o.urdf", "--output-file=y.urdf", "--exit-zero.urdf",
            "--ignore=xml.urdf", "-x.urdf", "a:=b.urdf"]
 
