@@ -14,7 +14,11 @@ TEST_STAMP := $(VENV)/.installed
 # urdftool's modules anew (about 0.2 s a process) and every pytest worker would rewrite the asserts
 # of every test module: the suite compiles urdftool once and lets pytest keep its rewritten modules.
 # --dist worksteal: a worker that runs out of tests takes some of the other's (long tests at the end).
-PYTEST := env -u PYTHONDONTWRITEBYTECODE $(BIN)/python -m pytest -q -n 2 --dist worksteal
+# `make test` runs three workers on two cores: a good part of its tests wait (on a language server,
+# a child process, a deadline), and a third worker fills that time (143-159 s against 152-169 s
+# with two, idle machine); the slow suites' big inputs keep two.
+PYTEST := env -u PYTHONDONTWRITEBYTECODE $(BIN)/python -m pytest -q --dist worksteal
+TEST_WORKERS ?= 3
 COMPILE := $(BIN)/python -m compileall -q urdftool
 
 .PHONY: check test test-slow test-all fuzz bench lint clean
@@ -42,16 +46,16 @@ check: $(MAIN_STAMP)
 
 test: $(TEST_STAMP)
 	$(COMPILE)
-	$(PYTEST) -m "not slow"
+	$(PYTEST) -n $(TEST_WORKERS) -m "not slow"
 
 # exit 5 (no test collected) fails: an empty slow set means the marker was lost
 test-slow: $(TEST_STAMP)
 	$(COMPILE)
-	$(PYTEST) -m slow
+	$(PYTEST) -n 2 -m slow
 
 test-all: $(TEST_STAMP)
 	$(COMPILE)
-	$(PYTEST)
+	$(PYTEST) -n 2
 
 fuzz: $(TEST_STAMP)
 	$(BIN)/python -m urdftool.fuzz --cases 10000

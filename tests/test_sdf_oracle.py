@@ -299,6 +299,7 @@ def test_pybullet_still_refuses_these():
             f"(listed: {why}): remove it from UNLOADABLE, the oracle compares it"
 
 
+@pytest.mark.slow  # 16 models through pybullet (~5 s of CPU): CI; make test keeps our own below
 @pytest.mark.parametrize("path,model", COMPARED,
                          ids=lambda v: v if isinstance(v, str) else v.name)
 def test_pybullet_data_sdf_against_pybullet(path, model, tmp_path):

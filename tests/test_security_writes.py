@@ -96,11 +96,22 @@ def test_expand_never_writes_over_the_yaml_it_read(repo, mode):
     assert not list(repo.glob(".*.tmp"))
 
 
-@pytest.mark.parametrize("mode", MODES)
-@pytest.mark.parametrize("option", ["-o", "--output-file", "--write-baseline",
-                                    "--extra-output"])
-@pytest.mark.parametrize("victim", ["broken.urdf", "robot.urdf.xacro", "data.yaml", "part.stl",
-                                    "urdftool.toml"])
+OPTIONS = ["-o", "--output-file", "--write-baseline", "--extra-output"]
+VICTIMS = ["broken.urdf", "robot.urdf.xacro", "data.yaml", "part.stl", "urdftool.toml"]
+
+
+def _writes():
+    """Every victim in each mode, every option in each mode, in make test; the rest of
+    the matrix (every victim through every option: one writer's check) in CI (slow)."""
+    for m, mode in enumerate(MODES):
+        for v, victim in enumerate(VICTIMS):
+            for o, option in enumerate(OPTIONS):
+                marks = () if (v + m) % len(OPTIONS) == o else (pytest.mark.slow,)
+                yield pytest.param(mode, option, victim, marks=marks,
+                                   id=f"{victim}-{option}-{mode}")
+
+
+@pytest.mark.parametrize(("mode", "option", "victim"), list(_writes()))
 def test_check_never_writes_over_a_file_it_read(repo, mode, option, victim):
     # `check DIR -o DIR/robot.urdf`: the checked files, what they read and the configuration
     before = snapshot(repo)
